@@ -1,0 +1,41 @@
+# Shared paths and helpers for the project scripts. Source it; do not run it.
+# Everything heavy (LAMMPS source, build tree, virtual environment) lives outside
+# the clone, under ESPH_CACHE, so a fresh clone reuses it and `git clean` never
+# throws a 15-minute build away.
+set -euo pipefail
+
+ESPH_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+ESPH_CACHE=${ESPH_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/user-elastic-sph}
+
+# Pinned LAMMPS: Debian's source package of the 4 Feb 2025 release.
+LAMMPS_DEB_VERSION=20250204+dfsg.1-2
+LAMMPS_ORIG_TARBALL=lammps_20250204+dfsg.1.orig.tar.xz
+LAMMPS_ORIG_SHA256=3671165bd52fad36734e0a9136c5bc5ecb225e03988f8c89aa13366a8b53b1c7
+LAMMPS_ORIG_TOPDIR=lammps-4Feb2025
+
+# A user's own LAMMPS tree wins over the pinned one.
+LAMMPS_SOURCE_DIR=${LAMMPS_SOURCE_DIR:-$ESPH_CACHE/src/$LAMMPS_ORIG_TOPDIR}
+
+# One build tree per clone (CMake ties a build tree to one source path) and per
+# LAMMPS tree; ccache makes a new one cheap.
+_esph_key=$(printf '%s|%s' "$ESPH_ROOT" "$LAMMPS_SOURCE_DIR" | sha1sum | cut -c1-12)
+ESPH_BUILD=${ESPH_BUILD:-$ESPH_CACHE/build-$_esph_key}
+ESPH_VENV=${ESPH_VENV:-$ESPH_BUILD/venv}
+ESPH_LMP=$ESPH_BUILD/lmp
+ESPH_JOBS=${ESPH_JOBS:-$(nproc)}
+
+say() { printf '[esph] %s\n' "$*" >&2; }
+die() { printf '[esph] error: %s\n' "$*" >&2; exit 1; }
+
+# Run a command as root (directly, or through sudo when we are not root).
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+# Environment for anything that loads liblammps from our build.
+esph_env() {
+  export PATH="$ESPH_VENV/bin:$ESPH_BUILD:$PATH"
+  export LAMMPS_SOURCE_DIR ESPH_BUILD ESPH_LMP ESPH_ROOT
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+  export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+}
