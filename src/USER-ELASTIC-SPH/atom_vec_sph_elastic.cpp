@@ -1,0 +1,177 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+------------------------------------------------------------------------- */
+
+#include "atom_vec_sph_elastic.h"
+
+#include "atom.h"
+#include "error.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+// Six independent components of the symmetric deviatoric stress.
+static constexpr int NSYMM = 6;
+
+/* ----------------------------------------------------------------------
+   Per-particle state of an elastic SPH solid.  Every field reuses an
+   existing Atom member, so set, compute property/atom, dump custom and
+   the Python extract_atom() work on it without changes to LAMMPS:
+     x0        reference (initial) position        (PERI's x0)
+     vfrac     reference volume V0                  (PERI's vfrac)
+     rmass     mass m = rho0 V0; rho0 = rmass/vfrac
+     rho, drho current density and its rate         (SPH's rho, drho)
+     smd_stress deviatoric stress tau, 6 columns    (MACHDYN's smd_stress)
+     molecule  body id: reference partners and contact use it
+------------------------------------------------------------------------- */
+
+AtomVecSPHElastic::AtomVecSPHElastic(LAMMPS *lmp) : AtomVec(lmp)
+{
+  molecular = Atom::ATOMIC;
+  mass_type = PER_ATOM;
+  forceclearflag = 1;
+
+  atom->x0_flag = 1;
+  atom->vfrac_flag = 1;
+  atom->rmass_flag = 1;
+  atom->rho_flag = 1;
+  atom->molecule_flag = 1;
+  atom->smd_stress_flag = 1;
+
+  // reference partners are stored by atom ID, so an atom map is needed;
+  // turn it on unless the user already chose a map style
+  if (atom->map_style == Atom::MAP_NONE) atom->map_style = Atom::MAP_YES;
+
+  // smd_stress is registered with one column; we store a symmetric tensor
+  atom->add_peratom_change_columns("smd_stress", NSYMM);
+
+  // clang-format off
+  fields_grow = {"x0", "vfrac", "rmass", "rho", "drho", "smd_stress", "molecule"};
+  fields_copy = {"x0", "vfrac", "rmass", "rho", "drho", "smd_stress", "molecule"};
+  fields_comm = {"rho", "smd_stress"};
+  fields_comm_vel = {"rho", "smd_stress"};
+  fields_reverse = {"drho"};
+  fields_border = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
+  fields_border_vel = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
+  fields_exchange = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
+  fields_restart = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
+  fields_create = {"x0", "vfrac", "rmass", "rho", "drho", "smd_stress", "molecule"};
+  fields_data_atom = {"id", "type", "molecule", "vfrac", "rmass", "x0", "x"};
+  fields_data_vel = {"id", "v"};
+  // clang-format on
+
+  setup_fields();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::grow_pointers()
+{
+  x0 = atom->x0;
+  vfrac = atom->vfrac;
+  rmass = atom->rmass;
+  rho = atom->rho;
+  drho = atom->drho;
+  tau = atom->smd_stress;
+  molecule = atom->molecule;
+}
+
+/* ----------------------------------------------------------------------
+   drho is summed like a force, so it is cleared with the forces
+------------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::force_clear(int n, size_t nbytes)
+{
+  memset(&drho[n], 0, nbytes);
+}
+
+/* ----------------------------------------------------------------------
+   a created particle starts in its reference state: x0 = x, unit volume
+   and mass (set them with "set ... volume" and "set ... mass"), density
+   rho0 = m/V0, no deviatoric stress, body 0
+------------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::create_atom_post(int ilocal)
+{
+  const double *const *const x = atom->x;
+  x0[ilocal][0] = x[ilocal][0];
+  x0[ilocal][1] = x[ilocal][1];
+  x0[ilocal][2] = x[ilocal][2];
+  vfrac[ilocal] = 1.0;
+  rmass[ilocal] = 1.0;
+  rho[ilocal] = 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   data file gives x0 explicitly (a deformed state can be written and
+   read back); the current density starts at the reference density
+------------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::data_atom_post(int ilocal)
+{
+  if (vfrac[ilocal] <= 0.0)
+    error->one(FLERR, "Invalid volume {} for atom {} in atom_style sph/elastic data file: must be > 0",
+               vfrac[ilocal], atom->tag[ilocal]);
+  if (rmass[ilocal] <= 0.0)
+    error->one(FLERR, "Invalid mass {} for atom {} in atom_style sph/elastic data file: must be > 0",
+               rmass[ilocal], atom->tag[ilocal]);
+  rho[ilocal] = rmass[ilocal] / vfrac[ilocal];
+  drho[ilocal] = 0.0;
+  for (int k = 0; k < NSYMM; k++) tau[ilocal][k] = 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   names for compute property/atom beyond the generic ones
+------------------------------------------------------------------------- */
+
+int AtomVecSPHElastic::property_atom(const std::string &name)
+{
+  if (name == "rho") return 0;
+  if (name == "drho") return 1;
+  if (name == "vfrac") return 2;
+  if (name == "rho0") return 3;
+  if (name == "x0x") return 4;
+  if (name == "x0y") return 5;
+  if (name == "x0z") return 6;
+  return -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::pack_property_atom(int index, double *buf, int nvalues, int groupbit)
+{
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  int n = 0;
+  for (int i = 0; i < nlocal; i++) {
+    double value = 0.0;
+    if (mask[i] & groupbit) {
+      if (index == 0)
+        value = rho[i];
+      else if (index == 1)
+        value = drho[i];
+      else if (index == 2)
+        value = vfrac[i];
+      else if (index == 3)
+        value = rmass[i] / vfrac[i];
+      else if (index >= 4 && index <= 6)
+        value = x0[i][index - 4];
+    }
+    buf[n] = value;
+    n += nvalues;
+  }
+}

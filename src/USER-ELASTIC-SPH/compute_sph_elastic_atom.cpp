@@ -1,0 +1,196 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+------------------------------------------------------------------------- */
+
+#include "compute_sph_elastic_atom.h"
+
+#include "atom.h"
+#include "error.h"
+#include "fix_sph_partners.h"
+#include "fix_sph_rotation.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "pair_sph_elastic.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+// partners this much farther than the nearest count as "initially adjacent"
+static constexpr double ADJACENT_TOL = 1.0e-3;
+
+/* ----------------------------------------------------------------------
+   compute ID group sph/elastic/atom q1 q2 ...
+   q = stress (6 cols) | vonmises | strain (6 cols) | rotation | stretch |
+       broken | failed
+------------------------------------------------------------------------- */
+
+ComputeSPHElasticAtom::ComputeSPHElasticAtom(LAMMPS *lmp, int narg, char **arg) :
+    Compute(lmp, narg, arg), nmax(0), output(nullptr), pair(nullptr), rotfix(nullptr)
+{
+  if (narg < 4) utils::missing_cmd_args(FLERR, "compute sph/elastic/atom", error);
+  int ncols = 0;
+  for (int iarg = 3; iarg < narg; iarg++) {
+    const char *q = arg[iarg];
+    if (strcmp(q, "stress") == 0) {
+      quantities.push_back(STRESS);
+      ncols += 6;
+    } else if (strcmp(q, "vonmises") == 0) {
+      quantities.push_back(VONMISES);
+      ncols += 1;
+    } else if (strcmp(q, "strain") == 0) {
+      quantities.push_back(STRAIN);
+      ncols += 6;
+    } else if (strcmp(q, "rotation") == 0) {
+      quantities.push_back(ROTATION);
+      ncols += 1;
+    } else if (strcmp(q, "stretch") == 0) {
+      quantities.push_back(STRETCH);
+      ncols += 1;
+    } else if (strcmp(q, "broken") == 0) {
+      quantities.push_back(BROKEN);
+      ncols += 1;
+    } else if (strcmp(q, "failed") == 0) {
+      quantities.push_back(FAILED);
+      ncols += 1;
+    } else {
+      error->all(FLERR, iarg,
+                 "Unknown compute sph/elastic/atom quantity: {} (use stress, vonmises, strain, "
+                 "rotation, stretch, broken or failed)", q);
+    }
+  }
+  peratom_flag = 1;
+  size_peratom_cols = ncols;
+}
+
+/* ---------------------------------------------------------------------- */
+
+ComputeSPHElasticAtom::~ComputeSPHElasticAtom()
+{
+  memory->destroy(output);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeSPHElasticAtom::init()
+{
+  pair = dynamic_cast<PairSPHElastic *>(force->pair);
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Compute sph/elastic/atom requires pair style sph/icb or sph/ccb");
+  rotfix = nullptr;
+  for (int q : quantities)
+    if (q == ROTATION) {
+      auto fixes = modify->get_fix_by_style("^sph/rotation$");
+      if (fixes.empty())
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Compute sph/elastic/atom rotation requires fix sph/rotation");
+      rotfix = dynamic_cast<FixSPHRotation *>(fixes.front());
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void ComputeSPHElasticAtom::compute_peratom()
+{
+  invoked_peratom = update->ntimestep;
+  if (atom->nmax > nmax) {
+    memory->destroy(output);
+    nmax = atom->nmax;
+    memory->create(output, nmax, size_peratom_cols, "sph/elastic/atom:output");
+    array_atom = output;
+  }
+
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  for (int i = 0; i < nlocal; i++) {
+    double *out = output[i];
+    if (!(mask[i] & groupbit)) {
+      for (int c = 0; c < size_peratom_cols; c++) out[c] = 0.0;
+      continue;
+    }
+    int c = 0;
+    const double *s = pair->cauchy[i];
+    for (int q : quantities) {
+      if (q == STRESS) {
+        for (int v = 0; v < 6; v++) out[c++] = s[v];
+      } else if (q == VONMISES) {
+        const double d01 = s[0] - s[1], d12 = s[1] - s[2], d20 = s[2] - s[0];
+        out[c++] = std::sqrt(0.5 * (d01 * d01 + d12 * d12 + d20 * d20) +
+                             3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+      } else if (q == STRAIN) {
+        for (int v = 0; v < 6; v++) out[c++] = pair->green[i][v];
+      } else if (q == ROTATION) {
+        out[c++] = rotfix->array_atom[i][0];
+      } else {
+        double stretch, broken, failed;
+        stretch_of(i, stretch, broken, failed);
+        out[c++] = (q == STRETCH) ? stretch : ((q == BROKEN) ? broken : failed);
+      }
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   failure indicator of owned atom i from its reference partners:
+     stretch  largest current/reference distance of initially adjacent partners
+     broken   fraction of all partners now farther apart than 2h
+     failed   1 if an initially adjacent partner is farther than 2h
+------------------------------------------------------------------------- */
+
+void ComputeSPHElasticAtom::stretch_of(int i, double &stretch, double &broken, double &failed)
+{
+  stretch = broken = failed = 0.0;
+  FixSPHPartners *partners = pair->get_partners();
+  if (!partners || !partners->built()) return;
+  const int n = partners->npartner[i];
+  if (n == 0) return;
+  const double *pd = partners->pdata[i];
+  const double support = pair->get_kernel().support();
+  const double *const *const x = atom->x;
+
+  double r0min = pd[FixSPHPartners::R0];
+  for (int k = 1; k < n; k++) r0min = MIN(r0min, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
+
+  int nbroken = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = partners->find_partner(i, k);
+    if (j < 0) {    // not even a ghost: certainly beyond the support
+      nbroken++;
+      failed = 1.0;
+      continue;
+    }
+    const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+    const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+    if (r > support) nbroken++;
+    if (r0 <= (1.0 + ADJACENT_TOL) * r0min) {
+      stretch = MAX(stretch, r / r0);
+      if (r > support) failed = 1.0;
+    }
+  }
+  broken = (double) nbroken / n;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double ComputeSPHElasticAtom::memory_usage()
+{
+  return (double) nmax * size_peratom_cols * sizeof(double);
+}

@@ -1,0 +1,421 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+------------------------------------------------------------------------- */
+
+#include "fix_sph_partners.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "memory.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+// doubles per partner in exchange and restart buffers: atom ID + data
+static constexpr int PACKED_PER_PARTNER = 1 + FixSPHPartners::NPDATA;
+// a correction matrix this close to singular means too few partners
+static constexpr double SINGULAR_TOL = 1.0e-8;
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHPartners::FixSPHPartners(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), npartner(nullptr), partner(nullptr), pdata(nullptr), list(nullptr),
+    lcorr(nullptr)
+{
+  if (narg != 3) error->all(FLERR, "Illegal fix SPH_PARTNERS command: it takes no arguments");
+
+  restart_global = 1;
+  restart_peratom = 1;
+  create_attribute = 1;
+  first = 1;
+  maxpartner = 1;
+  nmax_lcorr = 0;
+  comm_forward = 9;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+
+  // no partners until the first run builds them, so migration is safe before
+  for (int i = 0; i < atom->nlocal; i++) npartner[i] = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHPartners::~FixSPHPartners()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+  memory->destroy(npartner);
+  memory->destroy(partner);
+  memory->destroy(pdata);
+  memory->destroy(lcorr);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::setmask()
+{
+  return PRE_FORCE | MIN_PRE_FORCE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::init()
+{
+  if (first) neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::init_list(int /*id*/, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   called before the first force computation of both run and minimize
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::setup_pre_force(int /*vflag*/)
+{
+  if (first) build();
+}
+
+/* ----------------------------------------------------------------------
+   build partner lists and corrected gradients from the reference state
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::build()
+{
+  if (kernel.h <= 0.0) error->all(FLERR, Error::NOLASTLINE, "Fix SPH_PARTNERS has no kernel set");
+  neighbor->build_one(list);
+  collect_partners();
+  compute_corrections();
+  first = 0;
+}
+
+/* ----------------------------------------------------------------------
+   partners of owned atom i: atoms of the same body whose reference
+   distance is below the kernel support, sorted by atom ID so that sums
+   run in the same order on any number of processors
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::collect_partners()
+{
+  const double *const *const x0 = atom->x0;
+  const tagint *const tag = atom->tag;
+  const tagint *const molecule = atom->molecule;
+  const int nlocal = atom->nlocal;
+  const double cutsq = kernel.support() * kernel.support();
+
+  std::vector<std::vector<tagint>> found(nlocal);
+  int mymax = 0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (molecule[j] != molecule[i] || tag[j] == tag[i]) continue;
+      double del[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
+      domain->minimum_image(del[0], del[1], del[2]);
+      if (del[0] * del[0] + del[1] * del[1] + del[2] * del[2] < cutsq) found[i].push_back(tag[j]);
+    }
+    // several periodic images of one atom may be neighbours: keep one
+    std::sort(found[i].begin(), found[i].end());
+    found[i].erase(std::unique(found[i].begin(), found[i].end()), found[i].end());
+    mymax = std::max(mymax, (int) found[i].size());
+  }
+
+  MPI_Allreduce(&mymax, &maxpartner, 1, MPI_INT, MPI_MAX, world);
+  maxpartner = std::max(maxpartner, 1);
+  memory->destroy(partner);
+  memory->destroy(pdata);
+  memory->create(partner, atom->nmax, maxpartner, "sph/partners:partner");
+  memory->create(pdata, atom->nmax, maxpartner * NPDATA, "sph/partners:pdata");
+
+  for (int i = 0; i < nlocal; i++) {
+    npartner[i] = found[i].size();
+    std::copy(found[i].begin(), found[i].end(), partner[i]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   M_i = sum_j V_j (X_j - X_i) (x) gradW_ij, L_i = M_i^-1,
+   g_ij = V_j L_i gradW_ij and g_ji = V_i L_j gradW_ji for every partner
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::compute_corrections()
+{
+  const double *const *const x0 = atom->x0;
+  const double *const vfrac = atom->vfrac;
+  const int nlocal = atom->nlocal;
+  const int dim = domain->dimension;
+
+  if (atom->nmax > nmax_lcorr) {
+    memory->destroy(lcorr);
+    nmax_lcorr = atom->nmax;
+    memory->create(lcorr, nmax_lcorr, 9, "sph/partners:lcorr");
+  }
+
+  auto reference_offset = [&](int i, int j, double *del) {
+    for (int a = 0; a < 3; a++) del[a] = x0[j][a] - x0[i][a];
+    domain->minimum_image(del[0], del[1], del[2]);
+  };
+
+  for (int i = 0; i < nlocal; i++) {
+    double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    for (int k = 0; k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      if (j < 0)
+        error->one(FLERR, Error::NOLASTLINE, "Reference partner {} of atom {} is not on this processor",
+                   partner[i][k], atom->tag[i]);
+      double del[3];
+      reference_offset(i, j, del);
+      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+      // (X_j - X_i) (x) gradW_ij with gradW_ij = -W'(r) del/r
+      const double w = -vfrac[j] * kernel.derivative(r) / r;
+      for (int a = 0; a < dim; a++)
+        for (int b = 0; b < dim; b++) m[a][b] += w * del[a] * del[b];
+    }
+    if (dim == 2) m[2][2] = 1.0;
+
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+        m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+        m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    const double scale = m[0][0] * m[1][1] * m[2][2];
+    if (!(std::fabs(det) > SINGULAR_TOL * std::fabs(scale)) || !std::isfinite(det))
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Atom {} has {} reference partners, too few for the kernel gradient correction "
+                 "(isolated particle, or h too small for the particle spacing)",
+                 atom->tag[i], npartner[i]);
+    double *l = lcorr[i];
+    l[0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
+    l[1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) / det;
+    l[2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) / det;
+    l[3] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) / det;
+    l[4] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
+    l[5] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) / det;
+    l[6] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) / det;
+    l[7] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) / det;
+    l[8] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
+  }
+
+  // ghosts need their own correction for g_ji
+  comm->forward_comm(this);
+
+  for (int i = 0; i < nlocal; i++) {
+    for (int k = 0; k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      double del[3];
+      reference_offset(i, j, del);
+      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+      double gradw[3];    // gradW_ij = W'(r) (X_i - X_j)/r
+      const double dwr = kernel.derivative(r) / r;
+      for (int a = 0; a < 3; a++) gradw[a] = -dwr * del[a];
+      double *pd = &pdata[i][k * NPDATA];
+      const double *li = lcorr[i];
+      const double *lj = lcorr[j];
+      for (int a = 0; a < 3; a++) {
+        double lig = 0.0, ljg = 0.0;
+        for (int b = 0; b < 3; b++) {
+          lig += li[3 * a + b] * gradw[b];
+          ljg += lj[3 * a + b] * gradw[b];
+        }
+        pd[GIJ + a] = vfrac[j] * lig;
+        pd[GJI + a] = -vfrac[i] * ljg;    // gradW_ji = -gradW_ij
+      }
+      pd[R0] = r;
+      for (int a = 0; a < 3; a++) pd[DX0 + a] = del[a];
+      double gij = 0.0, gji = 0.0;
+      for (int a = 0; a < 3; a++) {
+        gij += pd[GIJ + a] * pd[GIJ + a];
+        gji += pd[GJI + a] * pd[GJI + a];
+      }
+      pd[HGW] = 0.5 * (vfrac[i] * std::sqrt(gij) + vfrac[j] * std::sqrt(gji)) / r;
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   local index of the image of partner k nearest to owned atom i, -1 if
+   the partner is not present on this processor (ghost cut-off too short)
+------------------------------------------------------------------------- */
+
+int FixSPHPartners::find_partner(int i, int k)
+{
+  const int j = atom->map(partner[i][k]);
+  if (j < 0) return -1;
+  return domain->closest_image(i, j);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixSPHPartners::memory_usage()
+{
+  const double nmax = atom->nmax;
+  return nmax * sizeof(int) + nmax * maxpartner * (sizeof(tagint) + NPDATA * sizeof(double)) +
+      (double) nmax_lcorr * 9 * sizeof(double);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::grow_arrays(int nmax)
+{
+  memory->grow(npartner, nmax, "sph/partners:npartner");
+  memory->grow(partner, nmax, maxpartner, "sph/partners:partner");
+  memory->grow(pdata, nmax, maxpartner * NPDATA, "sph/partners:pdata");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::copy_arrays(int i, int j, int /*delflag*/)
+{
+  npartner[j] = npartner[i];
+  for (int k = 0; k < npartner[i]; k++) partner[j][k] = partner[i][k];
+  for (int k = 0; k < npartner[i] * NPDATA; k++) pdata[j][k] = pdata[i][k];
+}
+
+/* ----------------------------------------------------------------------
+   an atom created after the partners were built has none
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::set_arrays(int i)
+{
+  npartner[i] = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::pack_exchange(int i, double *buf)
+{
+  int m = 0;
+  buf[m++] = npartner[i];
+  for (int k = 0; k < npartner[i]; k++) {
+    buf[m++] = ubuf(partner[i][k]).d;
+    for (int d = 0; d < NPDATA; d++) buf[m++] = pdata[i][k * NPDATA + d];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::unpack_exchange(int nlocal, double *buf)
+{
+  int m = 0;
+  npartner[nlocal] = static_cast<int>(buf[m++]);
+  for (int k = 0; k < npartner[nlocal]; k++) {
+    partner[nlocal][k] = (tagint) ubuf(buf[m++]).i;
+    for (int d = 0; d < NPDATA; d++) pdata[nlocal][k * NPDATA + d] = buf[m++];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::write_restart(FILE *fp)
+{
+  if (comm->me == 0) {
+    int size = 2 * sizeof(double);
+    double list[2] = {(double) first, (double) maxpartner};
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 2, fp);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::restart(char *buf)
+{
+  auto *list = (double *) buf;
+  first = static_cast<int>(list[0]);
+  maxpartner = static_cast<int>(list[1]);
+  memory->destroy(partner);
+  memory->destroy(pdata);
+  grow_arrays(atom->nmax);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::pack_restart(int i, double *buf)
+{
+  int m = 1;
+  buf[m++] = npartner[i];
+  for (int k = 0; k < npartner[i]; k++) {
+    buf[m++] = ubuf(partner[i][k]).d;
+    for (int d = 0; d < NPDATA; d++) buf[m++] = pdata[i][k * NPDATA + d];
+  }
+  buf[0] = m;    // the count includes buf[0] itself
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  npartner[nlocal] = static_cast<int>(extra[nlocal][m++]);
+  for (int k = 0; k < npartner[nlocal]; k++) {
+    partner[nlocal][k] = (tagint) ubuf(extra[nlocal][m++]).i;
+    for (int d = 0; d < NPDATA; d++) pdata[nlocal][k * NPDATA + d] = extra[nlocal][m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::size_restart(int nlocal)
+{
+  return 2 + npartner[nlocal] * PACKED_PER_PARTNER;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::maxsize_restart()
+{
+  return 2 + maxpartner * PACKED_PER_PARTNER;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
+                                      int * /*pbc*/)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int a = 0; a < 9; a++) buf[m++] = lcorr[list[ii]][a];
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::unpack_forward_comm(int n, int first_atom, double *buf)
+{
+  int m = 0;
+  for (int i = first_atom; i < first_atom + n; i++)
+    for (int a = 0; a < 9; a++) lcorr[i][a] = buf[m++];
+}

@@ -1,0 +1,88 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(SPH_PARTNERS,FixSPHPartners);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_PARTNERS_H
+#define LMP_FIX_SPH_PARTNERS_H
+
+#include "fix.h"
+#include "sph_elastic_kernel.h"
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   Internal fix created by pair sph/icb (and sph/ccb for diagnostics):
+   the reference partners of each particle (same body, reference distance
+   below 2h) with their precomputed corrected kernel gradients.  Built once
+   at the first run, then carried with the atoms through migration and
+   restart files.
+------------------------------------------------------------------------- */
+
+class FixSPHPartners : public Fix {
+ public:
+  // doubles stored per partner: g_ij (3), g_ji (3), reference distance,
+  // reference offset X_j - X_i (3), (V_i |g_ij| + V_j |g_ji|) / (2 r0)
+  static constexpr int GIJ = 0, GJI = 3, R0 = 6, DX0 = 7, HGW = 10, NPDATA = 11;
+
+  FixSPHPartners(class LAMMPS *, int, char **);
+  ~FixSPHPartners() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup_pre_force(int) override;
+
+  double memory_usage() override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+  void set_kernel(const SPHElastic::Kernel &k) { kernel = k; }
+  bool built() const { return !first; }
+  int find_partner(int i, int k);    // local index of partner k of owned atom i
+
+  int maxpartner;     // most partners of any atom
+  int *npartner;      // number of partners of each owned atom
+  tagint **partner;   // partner atom IDs, sorted ascending
+  double **pdata;     // NPDATA doubles per partner
+
+ private:
+  int first;    // 1 until the partners are built
+  class NeighList *list;
+  SPHElastic::Kernel kernel;
+  double **lcorr;    // gradient correction L = M^-1 (owned + ghost), only while building
+  int nmax_lcorr;
+
+  void build();
+  void collect_partners();
+  void compute_corrections();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

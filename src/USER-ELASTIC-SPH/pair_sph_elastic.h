@@ -1,0 +1,80 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_PAIR_SPH_ELASTIC_H
+#define LMP_PAIR_SPH_ELASTIC_H
+
+#include "pair.h"
+#include "sph_elastic_kernel.h"
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   Common part of the elastic SPH pair styles (not a style itself):
+   smoothing length and kernel, 2d plane mode, per-type St. Venant-Kirchhoff
+   material (E, nu) from pair_coeff, per-particle stress and strain output,
+   stable time-step estimate.
+------------------------------------------------------------------------- */
+
+class PairSPHElastic : public Pair {
+ public:
+  enum PlaneMode { PLANE_STRAIN, PLANE_STRESS };
+  static constexpr int NSYMM = 6;    // xx yy zz xy xz yz
+
+  PairSPHElastic(class LAMMPS *);
+  ~PairSPHElastic() override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  double init_one(int, int) override;
+  void init_style() override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  void write_data(FILE *) override;
+  void write_data_all(FILE *) override;
+  void *extract(const char *, int &) override;
+  double memory_usage() override;
+
+  // per-particle output of owned atoms, valid after a force computation
+  double **cauchy;    // Cauchy stress, NSYMM columns
+  double **green;     // Green-Lagrange strain, NSYMM columns
+  double stable_dt_unit() const { return dt_unit; }
+  const SPHElastic::Kernel &get_kernel() const { return kernel; }
+  class FixSPHPartners *get_partners() const { return partners; }
+
+ protected:
+  double h;
+  SPHElastic::Kernel kernel;
+  int plane;
+  int plane_given;
+  double *youngs, *poisson;        // per type, from pair_coeff
+  double *lame_lambda, *lame_mu;   // per type, 2d plane stress uses lambda*
+  double *bulk;                    // per type, bulk modulus lambda + 2 mu/3 (3d lambda)
+  double dt_unit;                  // h / (largest wave speed): dt <= C * dt_unit
+  int nmax_output;
+  class FixSPHPartners *partners;
+
+  virtual void allocate();
+  // keywords of the derived style; return words consumed, 0 if unknown
+  virtual int parse_keyword(int iarg, int narg, char **arg) = 0;
+  virtual const char *style_name() const = 0;
+  void grow_output();
+  void check_atoms();
+  void compute_stable_dt();
+  void connect_partners();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,383 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+   Total Lagrangian (initial-configuration based) SPH for elastic solids
+   after Tran-Duc, Meylan, Thamwattana, ANZIAM J. 65 (2023).
+------------------------------------------------------------------------- */
+
+#include "pair_sph_icb.h"
+
+#include "atom.h"
+#include "citeme.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_partners.h"
+#include "fix_sph_rotation.h"
+#include "memory.h"
+#include "modify.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+static const char cite_pair_sph_icb[] =
+    "pair_style sph/icb command: doi:10.1017/S1446181123000202\n\n"
+    "@article{TranDuc2023,\n"
+    " author = {Tran-Duc, T. and Meylan, M. H. and Thamwattana, N.},\n"
+    " title = {Numerical simulations for largely deformed beams and rings adopting a "
+    "nontensile smoothed particle hydrodynamics algorithm},\n"
+    " journal = {ANZIAM J.},\n"
+    " year = {2023}\n"
+    "}\n\n";
+
+/* ---------------------------------------------------------------------- */
+
+enum { COMM_DEFGRAD, COMM_QSTRESS };
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHICB::PairSPHICB(LAMMPS *lmp) :
+    PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr)
+{
+  if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
+  measure = COROTATED;
+  hourglass = 0.0;
+  comm_what = COMM_QSTRESS;
+  nmax_work = maxlocal = 0;
+  comm_forward = 9;
+}
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHICB::~PairSPHICB()
+{
+  memory->destroy(defgrad);
+  memory->destroy(qstress);
+  memory->destroy(jlocal);
+}
+
+/* ----------------------------------------------------------------------
+   stress corotated|pk1, hourglass alpha
+------------------------------------------------------------------------- */
+
+int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
+{
+  if (strcmp(arg[iarg], "hourglass") == 0) {
+    if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "pair_style sph/icb hourglass", error);
+    hourglass = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    if (hourglass < 0.0)
+      error->all(FLERR, iarg + 1, "Pair_style sph/icb hourglass must be >= 0, got {}", hourglass);
+    return 2;
+  }
+  if (strcmp(arg[iarg], "stress") != 0) return 0;
+  if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "pair_style sph/icb stress", error);
+  if (strcmp(arg[iarg + 1], "corotated") == 0)
+    measure = COROTATED;
+  else if (strcmp(arg[iarg + 1], "pk1") == 0)
+    measure = PK1;
+  else
+    error->all(FLERR, iarg + 1, "Unknown pair_style sph/icb stress {}: use corotated or pk1",
+               arg[iarg + 1]);
+  return 2;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::init_style()
+{
+  PairSPHElastic::init_style();
+
+  auto fixes = modify->get_fix_by_style("^sph/rotation$");
+  rotfix = fixes.empty() ? nullptr : dynamic_cast<FixSPHRotation *>(fixes.front());
+  if (!rotfix && measure == COROTATED)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb stress corotated requires fix sph/rotation: "
+               "add 'fix ID all sph/rotation' (or use 'stress pk1')");
+}
+
+/* ----------------------------------------------------------------------
+   two sweeps over owned particles and their reference partners:
+   1) F_i = sum_j (x_j - x_i) (x) g_ij, Green strain, S, P_i = R_i S_i or F_i S_i
+   2) after P reaches the ghosts: f_i = sum_j V_i P_i g_ij - V_j P_j g_ji
+------------------------------------------------------------------------- */
+
+void PairSPHICB::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  if (!partners->built())
+    error->all(FLERR, Error::NOLASTLINE, "Pair style sph/icb: reference partners were not built");
+
+  const int nlocal = atom->nlocal;
+  const int mp = partners->maxpartner;
+  grow_output();
+  grow_work();
+
+  if (rotfix) rotfix->begin_sweep();
+  for (int i = 0; i < nlocal; i++) {
+    const double e = stress_pass(i, &jlocal[i * mp]);
+    if (eflag_global) eng_vdwl += e;
+    if (eflag_atom) eatom[i] += e;
+  }
+
+  if (hourglass > 0.0) {
+    comm_what = COMM_DEFGRAD;
+    comm->forward_comm(this);
+    for (int i = 0; i < nlocal; i++) {
+      const double e = hourglass_pass(i, &jlocal[i * mp]);
+      if (eflag_global) eng_vdwl += e;
+      if (eflag_atom) eatom[i] += e;
+    }
+  }
+
+  comm_what = COMM_QSTRESS;
+  comm->forward_comm(this);
+
+  for (int i = 0; i < nlocal; i++) force_pass(i, &jlocal[i * mp]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::grow_work()
+{
+  if (atom->nmax > nmax_work) {
+    nmax_work = atom->nmax;
+    memory->destroy(defgrad);
+    memory->destroy(qstress);
+    memory->create(defgrad, nmax_work, 9, "pair:defgrad");
+    memory->create(qstress, nmax_work, 9, "pair:qstress");
+  }
+  const int need = atom->nmax * partners->maxpartner;
+  if (need > maxlocal) {
+    maxlocal = need;
+    memory->destroy(jlocal);
+    memory->create(jlocal, maxlocal, "pair:jlocal");
+  }
+}
+
+/* ----------------------------------------------------------------------
+   deformation gradient, strain, stress and stress measure of owned atom i;
+   returns its strain energy V_i psi(E_i)
+------------------------------------------------------------------------- */
+
+double PairSPHICB::stress_pass(int i, int *jl)
+{
+  const double *const *const x = atom->x;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+
+  double F[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  for (int k = 0; k < n; k++) {
+    const int j = partners->find_partner(i, k);
+    if (j < 0)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost cut-off "
+                 "at step {}; increase it with 'comm_modify cutoff <d>' (d >= 2h times the largest "
+                 "stretch, plus the neighbor skin)",
+                 partners->partner[i][k], atom->tag[i], update->ntimestep);
+    jl[k] = j;
+    const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
+    const double dx[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) F[a][b] += dx[a] * g[b];
+  }
+  if (domain->dimension == 2) {
+    F[0][2] = F[1][2] = F[2][0] = F[2][1] = 0.0;
+    F[2][2] = 1.0;
+  }
+
+  const double detF = F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
+      F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+      F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+  if (!std::isfinite(detF))
+    error->one(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}; the run "
+               "is unstable (reduce the time step or the load)", atom->tag[i], update->ntimestep);
+  // a minimizer's trial step may invert particles; its line search backs off
+  if (detF <= 0.0 && update->whichflag != 2)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: atom {} is inverted (det F = {}) at step {}; the load or the "
+               "time step is too large for this resolution", atom->tag[i], detF, update->ntimestep);
+
+  // Green strain E = (F^T F - I)/2 and 2nd Piola-Kirchhoff S = lambda tr(E) I + 2 mu E
+  const int t = atom->type[i];
+  const double lambda = lame_lambda[t], mu = lame_mu[t];
+  double E[3][3], S[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++)
+      E[a][b] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
+  const double trE = E[0][0] + E[1][1] + E[2][2];
+  double EE = 0.0;
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      S[a][b] = 2.0 * mu * E[a][b] + (a == b ? lambda * trE : 0.0);
+      EE += E[a][b] * E[a][b];
+    }
+  // plane stress: the condensed lambda* already accounts for S_zz = 0
+  if (domain->dimension == 2 && plane == PLANE_STRESS) S[2][2] = 0.0;
+
+  double R[3][3];
+  if (rotfix) rotfix->rotation(i, F, R);
+  const double (*M)[3] = (measure == COROTATED) ? R : F;
+  const double vi = atom->vfrac[i];
+  double *Q = qstress[i];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      Q[3 * a + b] = vi * (M[a][0] * S[0][b] + M[a][1] * S[1][b] + M[a][2] * S[2][b]);
+      defgrad[i][3 * a + b] = F[a][b];
+    }
+
+  // output: Cauchy stress (1/J) F S F^T and Green strain
+  double FS[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
+  static constexpr int VA[NSYMM] = {0, 1, 2, 0, 0, 1}, VB[NSYMM] = {0, 1, 2, 1, 2, 2};
+  for (int v = 0; v < NSYMM; v++) {
+    const int a = VA[v], b = VB[v];
+    cauchy[i][v] = (FS[a][0] * F[b][0] + FS[a][1] * F[b][1] + FS[a][2] * F[b][2]) / detF;
+    green[i][v] = E[a][b];
+  }
+
+  const double psi = 0.5 * lambda * trE * trE + mu * EE;
+  return vi * psi;
+}
+
+/* ----------------------------------------------------------------------
+   hourglass control as an energy, exact gradient included:
+     E_hg = 1/4 sum_i sum_j k_ij |d_ij|^2,  d_ij = x_j - x_i - (F_i + F_j)/2 X_ij
+   zero for any affine motion.  Its F dependence acts like a stress,
+   dE_hg/dF_i = -1/2 sum_j k_ij d_ij (x) X_ij, added to Q_i; the direct x
+   dependence gives f_i += sum_j k_ij d_ij.  k_ij = alpha E_ij w_ij with the
+   precomputed w_ij = (V_i |g_ij| + V_j |g_ji|) / (2 r0).  Returns atom i's
+   share of the energy.
+------------------------------------------------------------------------- */
+
+double PairSPHICB::hourglass_pass(int i, const int *jl)
+{
+  double *const *const f = atom->f;
+  const double *const *const x = atom->x;
+  const int *type = atom->type;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+  const double *Fi = defgrad[i];
+  double *Q = qstress[i];
+  double energy = 0.0;
+
+  for (int k = 0; k < n; k++) {
+    const int j = jl[k];
+    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    const double *Fj = defgrad[j];
+    double d[3];
+    for (int a = 0; a < 3; a++) {
+      const double fx = 0.5 * ((Fi[3 * a] + Fj[3 * a]) * X[0] + (Fi[3 * a + 1] + Fj[3 * a + 1]) * X[1] +
+                               (Fi[3 * a + 2] + Fj[3 * a + 2]) * X[2]);
+      d[a] = x[j][a] - x[i][a] - fx;
+    }
+    energy += 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) Q[3 * a + b] -= 0.5 * kij * d[a] * X[b];
+    const double fd[3] = {kij * d[0], kij * d[1], kij * d[2]};
+    f[i][0] += fd[0];
+    f[i][1] += fd[1];
+    f[i][2] += fd[2];
+    if (vflag_either)
+      ev_tally_xyz_full(i, 0.0, 0.0, fd[0], fd[1], fd[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
+                        x[i][2] - x[j][2]);
+  }
+  return energy;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::force_pass(int i, const int *jl)
+{
+  double *const *const f = atom->f;
+  const double *const *const x = atom->x;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+  const double *Qi = qstress[i];
+
+  for (int k = 0; k < n; k++) {
+    const int j = jl[k];
+    const double *gij = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
+    const double *gji = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GJI];
+    const double *Qj = qstress[j];
+    double fij[3];
+    for (int a = 0; a < 3; a++)
+      fij[a] = (Qi[3 * a] * gij[0] + Qi[3 * a + 1] * gij[1] + Qi[3 * a + 2] * gij[2]) -
+          (Qj[3 * a] * gji[0] + Qj[3 * a + 1] * gji[1] + Qj[3 * a + 2] * gji[2]);
+    f[i][0] += fij[0];
+    f[i][1] += fij[1];
+    f[i][2] += fij[2];
+    if (vflag_either)
+      ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
+                        x[i][2] - x[j][2]);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::write_restart_settings(FILE *fp)
+{
+  PairSPHElastic::write_restart_settings(fp);
+  fwrite(&measure, sizeof(int), 1, fp);
+  fwrite(&hourglass, sizeof(double), 1, fp);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::read_restart_settings(FILE *fp)
+{
+  PairSPHElastic::read_restart_settings(fp);
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &measure, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &hourglass, sizeof(double), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&measure, 1, MPI_INT, 0, world);
+  MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, world);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairSPHICB::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  double **src = (comm_what == COMM_DEFGRAD) ? defgrad : qstress;
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int a = 0; a < 9; a++) buf[m++] = src[list[ii]][a];
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **dst = (comm_what == COMM_DEFGRAD) ? defgrad : qstress;
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int a = 0; a < 9; a++) dst[i][a] = buf[m++];
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHICB::memory_usage()
+{
+  return PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
+      (double) maxlocal * sizeof(int);
+}

@@ -1,0 +1,62 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(sph/icb,PairSPHICB);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_SPH_ICB_H
+#define LMP_PAIR_SPH_ICB_H
+
+#include "pair_sph_elastic.h"
+
+namespace LAMMPS_NS {
+
+class PairSPHICB : public PairSPHElastic {
+ public:
+  enum StressMeasure { COROTATED, PK1 };
+
+  PairSPHICB(class LAMMPS *);
+  ~PairSPHICB() override;
+  void compute(int, int) override;
+  void init_style() override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  double memory_usage() override;
+
+ protected:
+  int measure;                   // stress measure P = R S (corotated) or F S (pk1)
+  double hourglass;              // hourglass-control coefficient alpha (0 = off)
+  int comm_what;                 // what forward comm carries: F or Q
+  class FixSPHRotation *rotfix;
+  double **defgrad;              // per atom F (3x3 row-major), forwarded with hourglass control
+  double **qstress;              // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
+  int *jlocal;                   // local index of each partner, this step
+  int nmax_work, maxlocal;
+
+  int parse_keyword(int, int, char **) override;
+  const char *style_name() const override { return "sph/icb"; }
+  double stress_pass(int i, int *jl);
+  double hourglass_pass(int i, const int *jl);
+  void force_pass(int i, const int *jl);
+  void grow_work();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
