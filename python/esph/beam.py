@@ -1,0 +1,58 @@
+"""Cantilever beam validation (paper section 3.1) through examples/beam/in.beam."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import theory
+from .runner import BEAM, run_mpi, run_script
+
+
+@dataclass
+class BeamCase:
+    load: float = -250.0          # N
+    dx: float = 0.002             # m
+    nu: float = 0.0
+    plane: str = "stress"
+    stress: str = "pk1"
+    route: str = "min"
+    hourglass: float = 0.0
+
+    def variables(self) -> dict:
+        return {"Fy": self.load, "dx": self.dx, "nu": self.nu, "plane": self.plane,
+                "stress": self.stress, "route": self.route, "hg": self.hourglass}
+
+
+@dataclass
+class BeamResult:
+    case: BeamCase
+    dh: float
+    dv: float
+    steps: int
+    natoms: int
+    wall: float
+
+    @property
+    def exact(self) -> tuple[float, float]:
+        """Elastica at the tip column's material point s = L - dx/2."""
+        beam = theory.Beam()
+        return theory.beam_tip(beam, self.case.load, s=beam.L - 0.5 * self.case.dx)
+
+    @property
+    def error_dv(self) -> float:
+        return self.dv / self.exact[1] - 1.0
+
+    @property
+    def error_dh(self) -> float:
+        return self.dh / self.exact[0] - 1.0
+
+
+def run_beam(case: BeamCase, nprocs: int = 1) -> BeamResult:
+    if nprocs == 1:
+        out = run_script(BEAM, case.variables(), read=["tip_dh", "tip_dv"])
+        dh, dv = out.variables["tip_dh"], out.variables["tip_dv"]
+        steps, natoms = out.steps, out.natoms
+    else:
+        out = run_mpi(BEAM, case.variables(), nprocs)
+        dh, dv = out.variables["tip_dh"], out.variables["tip_dv"]
+        steps, natoms = int(out.variables["steps"]), int(out.variables["atoms"])
+    return BeamResult(case, dh, dv, steps, natoms, out.wall)

@@ -1,0 +1,92 @@
+"""Run the example input scripts: in-process through the lammps module, or
+under MPI as `mpirun -np N lmp`.  The scripts in examples/ are the single
+source of truth; Python only sets their variables and reads results back."""
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .paths import EXAMPLES, lmp_binary
+
+
+@dataclass
+class RunResult:
+    variables: dict = field(default_factory=dict)   # requested equal-style variables
+    steps: int = 0
+    natoms: int = 0
+    wall: float = 0.0
+    log: str = ""
+
+
+@contextlib.contextmanager
+def _cwd(path: Path):
+    old = os.getcwd()
+    os.chdir(path)
+    try:
+        yield
+    finally:
+        os.chdir(old)
+
+
+def _var_args(variables: dict) -> list[str]:
+    args = []
+    for name, value in variables.items():
+        args += ["-var", name, str(value)]
+    return args
+
+
+def run_script(script: Path, variables: dict, read: list[str], log: Path | None = None,
+               commands_after: list[str] | None = None) -> RunResult:
+    """Run `script` in-process with the lammps module and return the values of
+    the equal-style variables in `read` at the end."""
+    from lammps import lammps
+
+    args = ["-screen", "none", "-log", str(log) if log else "none", "-nocite"]
+    start = time.perf_counter()
+    lmp = lammps(cmdargs=args + _var_args(variables))
+    try:
+        with _cwd(script.parent):
+            lmp.file(script.name)
+            for cmd in commands_after or []:
+                lmp.command(cmd)
+        out = RunResult()
+        out.wall = time.perf_counter() - start
+        out.variables = {name: lmp.extract_variable(name) for name in read}
+        out.steps = int(lmp.get_thermo("step"))
+        out.natoms = int(lmp.get_natoms())
+    finally:
+        lmp.close()
+    return out
+
+
+_PRINT_RE = re.compile(r"^RESULT (\S+) (\S+)$", re.M)
+_LOOP_RE = re.compile(r"^Loop time of (\S+) on", re.M)
+
+
+def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None = None,
+            timeout: float = 1800) -> RunResult:
+    """Run `script` with `mpirun -np nprocs lmp`; values are taken from lines
+    `RESULT name value` that the script prints."""
+    cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp_binary(), "-in", script.name,
+           "-log", "none", "-nocite"] + _var_args(variables) + (extra or [])
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=script.parent, env=env, capture_output=True, text=True,
+                          timeout=timeout)
+    out = RunResult(wall=time.perf_counter() - start, log=proc.stdout + proc.stderr)
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{out.log[-3000:]}")
+    out.variables = {m.group(1): float(m.group(2)) for m in _PRINT_RE.finditer(proc.stdout)}
+    loops = _LOOP_RE.findall(proc.stdout)
+    if loops:   # LAMMPS's own timing of the last run or minimize
+        out.variables["loop_time"] = float(loops[-1])
+    return out
+
+
+BEAM = EXAMPLES / "beam" / "in.beam"

@@ -1,0 +1,134 @@
+"""Bad input stops with a LAMMPS error that names the problem."""
+from __future__ import annotations
+
+import pytest
+
+import subprocess
+
+from conftest import block, make_lammps
+from esph.paths import lmp_binary
+
+BASE = """
+units si
+dimension 2
+boundary s s p
+atom_style sph/elastic
+lattice sq 0.001 origin 0.5 0.5 0.0
+region box block 0 6 0 4 -0.5 0.5
+create_box 1 box
+create_atoms 1 box
+set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+"""
+
+CASES = [
+    ("pair_style sph/icb 0.0012 colour red", "Unknown pair_style sph/icb keyword: colour"),
+    ("pair_style sph/icb -1", "smoothing length h must be > 0"),
+    ("pair_style sph/icb", "pair_style sph/icb"),
+    ("pair_style sph/icb 0.0012 stress cauchy", "Unknown pair_style sph/icb stress cauchy"),
+    ("pair_style sph/icb 0.0012 kernel gauss", "Unknown pair_style sph/icb kernel gauss"),
+    ("pair_style sph/icb 0.0012 hourglass -1", "hourglass must be >= 0"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.5", "Poisson's ratio nu must satisfy"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * -1e9 0.3", "Young's modulus E must be > 0"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9", "expected I J E nu"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nrun 0", "requires fix sph/rotation"),
+    ("fix r all sph/rotation method magic", "Unknown fix sph/rotation method magic"),
+    ("fix r all sph/rotation tol 0", "tol must be > 0"),
+    ("fix r all sph/rotation bogus 1", "Unknown fix sph/rotation keyword: bogus"),
+    ("compute c all sph/elastic/atom temperature", "Unknown compute sph/elastic/atom quantity"),
+]
+
+
+@pytest.mark.parametrize("commands,message", CASES)
+def test_bad_input_names_the_problem(commands, message):
+    lmp = make_lammps()
+    lmp.commands_string(BASE)
+    with pytest.raises(Exception) as err:
+        lmp.commands_string(commands)
+    assert message in str(err.value)
+    lmp.close()
+
+
+def test_wrong_atom_style():
+    lmp = make_lammps()
+    lmp.commands_string("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
+                        "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
+                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n"
+                        "pair_style sph/icb 1.0\npair_coeff * * 1e9 0.3")
+    with pytest.raises(Exception, match="requires atom_style sph/elastic"):
+        lmp.command("run 0")
+    lmp.close()
+
+
+def test_plane_keyword_in_3d():
+    lmp = make_lammps()
+    lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
+                        "region box block 0 4 0 4 0 4\ncreate_box 1 box")
+    with pytest.raises(Exception, match="plane is only valid for 2d"):
+        lmp.command("pair_style sph/icb 1.0 plane stress")
+    lmp.close()
+
+
+def test_inverted_particle_stops_dynamics():
+    lmp = make_lammps()
+    block(lmp, n=(6, 5, 1), dim=2, extra_pair="stress pk1")
+    lmp.command("run 0")
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    n = lmp.get_natoms()
+    x[:n, 0] = -x0[:n, 0]          # mirror: det F = -1 everywhere
+    lmp.command("fix nve all nve")
+    with pytest.raises(Exception, match="is inverted"):
+        lmp.command("run 1")
+    lmp.close()
+
+
+DATA = """# zero volume
+4 atoms
+1 atom types
+0 0.004 xlo xhi
+0 0.001 ylo yhi
+-0.0005 0.0005 zlo zhi
+
+Atoms # sph/elastic
+
+1 1 1 1e-9 1e-6 0.0005 0.0005 0 0.0005 0.0005 0
+2 1 1 0.0 1e-6 0.0015 0.0005 0 0.0015 0.0005 0
+3 1 1 1e-9 1e-6 0.0025 0.0005 0 0.0025 0.0005 0
+4 1 1 1e-9 1e-6 0.0035 0.0005 0 0.0035 0.0005 0
+"""
+
+
+def test_non_positive_volume_in_data_file(tmp_path):
+    data = tmp_path / "data.zero"
+    data.write_text(DATA)
+    lmp = make_lammps()
+    with pytest.raises(Exception, match="Invalid volume 0 for atom 2"):
+        lmp.commands_string(f"units si\ndimension 2\nboundary f f p\natom_style sph/elastic\n"
+                            f"read_data {data}")
+    lmp.close()
+
+
+LOST_PARTNER = BASE.replace("region box block 0 6 0 4", "region box block 0 16 0 4") + """
+pair_style sph/icb 0.0012 stress pk1
+pair_coeff * * 1e9 0.3
+neighbor 0.0001 bin
+run 0
+displace_atoms all ramp x 0.0 0.02 x 0.0 0.016 units box
+run 0
+"""
+
+
+def test_partner_beyond_ghost_cutoff_is_an_error(tmp_path):
+    """On 2 ranks a stretch beyond the ghost cut-off loses partners: the run
+    must stop and say what to set, not compute with missing partners."""
+    script = tmp_path / "in.lost"
+    script.write_text(LOST_PARTNER)
+    proc = subprocess.run(["mpirun", "--oversubscribe", "-np", "2", lmp_binary(), "-in", str(script),
+                           "-log", "none", "-nocite"], capture_output=True, text=True, timeout=120,
+                          env={**__import__("os").environ, "OMPI_ALLOW_RUN_AS_ROOT": "1",
+                               "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"})
+    assert proc.returncode != 0
+    assert "beyond the ghost cut-off" in proc.stdout + proc.stderr
+    assert "comm_modify cutoff" in proc.stdout + proc.stderr
