@@ -33,6 +33,13 @@ using namespace LAMMPS_NS;
 
 static constexpr const char *PARTNERS_ID = "SPH_PARTNERS";
 
+// 3d Lame constants of Young's modulus e and Poisson's ratio nu
+static void lame_constants(double e, double nu, double &lambda, double &mu)
+{
+  mu = e / (2.0 * (1.0 + nu));
+  lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
 /* ---------------------------------------------------------------------- */
 
 PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
@@ -189,9 +196,8 @@ double PairSPHElastic::init_one(int i, int j)
                style_name(), setflag[i][i] ? j : i, setflag[i][i] ? j : i, setflag[i][i] ? j : i);
 
   for (int t : {i, j}) {
-    const double e = youngs[t], nu = poisson[t];
-    const double mu = e / (2.0 * (1.0 + nu));
-    const double lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    double lambda, mu;
+    lame_constants(youngs[t], poisson[t], lambda, mu);
     lame_mu[t] = mu;
     // plane stress: S_zz = 0 condenses lambda to lambda* = 2 lambda mu/(lambda + 2 mu)
     lame_lambda[t] = (domain->dimension == 2 && plane == PLANE_STRESS)
@@ -273,10 +279,8 @@ void PairSPHElastic::compute_stable_dt()
   const int *type = atom->type;
   double cmax = 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
-    const int t = type[i];
-    const double e = youngs[t], nu = poisson[t];
-    const double mu = e / (2.0 * (1.0 + nu));
-    const double lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    double lambda, mu;
+    lame_constants(youngs[type[i]], poisson[type[i]], lambda, mu);
     cmax = MAX(cmax, std::sqrt((lambda + 2.0 * mu) * vfrac[i] / rmass[i]));
   }
   double all;
