@@ -45,35 +45,27 @@ ComputeSPHElasticAtom::ComputeSPHElasticAtom(LAMMPS *lmp, int narg, char **arg) 
     Compute(lmp, narg, arg), nmax(0), output(nullptr), pair(nullptr), rotfix(nullptr)
 {
   if (narg < 4) utils::missing_cmd_args(FLERR, "compute sph/elastic/atom", error);
+  struct QuantityName {
+    const char *name;
+    int quantity, ncols;
+  };
+  static const QuantityName known[] = {{"stress", STRESS, 6},  {"vonmises", VONMISES, 1},
+                                       {"strain", STRAIN, 6},  {"rotation", ROTATION, 1},
+                                       {"stretch", STRETCH, 1}, {"broken", BROKEN, 1},
+                                       {"failed", FAILED, 1}};
   int ncols = 0;
   for (int iarg = 3; iarg < narg; iarg++) {
-    const char *q = arg[iarg];
-    if (strcmp(q, "stress") == 0) {
-      quantities.push_back(STRESS);
-      ncols += 6;
-    } else if (strcmp(q, "vonmises") == 0) {
-      quantities.push_back(VONMISES);
-      ncols += 1;
-    } else if (strcmp(q, "strain") == 0) {
-      quantities.push_back(STRAIN);
-      ncols += 6;
-    } else if (strcmp(q, "rotation") == 0) {
-      quantities.push_back(ROTATION);
-      ncols += 1;
-    } else if (strcmp(q, "stretch") == 0) {
-      quantities.push_back(STRETCH);
-      ncols += 1;
-    } else if (strcmp(q, "broken") == 0) {
-      quantities.push_back(BROKEN);
-      ncols += 1;
-    } else if (strcmp(q, "failed") == 0) {
-      quantities.push_back(FAILED);
-      ncols += 1;
-    } else {
-      error->all(FLERR, iarg,
-                 "Unknown compute sph/elastic/atom quantity: {} (use stress, vonmises, strain, "
-                 "rotation, stretch, broken or failed)", q);
+    const QuantityName *match = nullptr;
+    for (const auto &k : known)
+      if (strcmp(arg[iarg], k.name) == 0) match = &k;
+    if (!match) {
+      std::string names;
+      for (const auto &k : known) names += std::string(names.empty() ? "" : ", ") + k.name;
+      error->all(FLERR, iarg, "Unknown compute sph/elastic/atom quantity: {} (use {})", arg[iarg],
+                 names);
     }
+    quantities.push_back(match->quantity);
+    ncols += match->ncols;
   }
   peratom_flag = 1;
   size_peratom_cols = ncols;

@@ -361,13 +361,9 @@ void FixSPHPartners::restart(char *buf)
 
 int FixSPHPartners::pack_restart(int i, double *buf)
 {
-  int m = 1;
-  buf[m++] = npartner[i];
-  for (int k = 0; k < npartner[i]; k++) {
-    buf[m++] = ubuf(partner[i][k]).d;
-    for (int d = 0; d < NPDATA; d++) buf[m++] = pdata[i][k * NPDATA + d];
-  }
-  buf[0] = m;    // the count includes buf[0] itself
+  // same layout as migration, after a count that includes buf[0] itself
+  const int m = 1 + pack_exchange(i, buf + 1);
+  buf[0] = m;
   return m;
 }
 
@@ -378,12 +374,7 @@ void FixSPHPartners::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  m++;
-  npartner[nlocal] = static_cast<int>(extra[nlocal][m++]);
-  for (int k = 0; k < npartner[nlocal]; k++) {
-    partner[nlocal][k] = (tagint) ubuf(extra[nlocal][m++]).i;
-    for (int d = 0; d < NPDATA; d++) pdata[nlocal][k * NPDATA + d] = extra[nlocal][m++];
-  }
+  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
 }
 
 /* ---------------------------------------------------------------------- */

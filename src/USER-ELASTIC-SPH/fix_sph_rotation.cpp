@@ -320,9 +320,9 @@ int FixSPHRotation::unpack_exchange(int nlocal, double *buf)
 
 int FixSPHRotation::pack_restart(int i, double *buf)
 {
-  buf[0] = NCOLS + 1;    // the count includes buf[0] itself
-  for (int k = 0; k < NCOLS; k++) buf[k + 1] = rot[i][k];
-  return NCOLS + 1;
+  // same layout as migration, after a count that includes buf[0] itself
+  buf[0] = NCOLS + 1;
+  return 1 + pack_exchange(i, buf + 1);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -332,8 +332,7 @@ void FixSPHRotation::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  m++;
-  for (int k = 0; k < NCOLS; k++) rot[nlocal][k] = extra[nlocal][m++];
+  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
 }
 
 /* ---------------------------------------------------------------------- */
