@@ -16,10 +16,12 @@ class BeamCase:
     stress: str = "pk1"
     route: str = "min"
     hourglass: float = 0.0
+    gradient: str = "linear"      # linear (paper) or quadratic
 
     def variables(self) -> dict:
         return {"Fy": self.load, "dx": self.dx, "nu": self.nu, "plane": self.plane,
-                "stress": self.stress, "route": self.route, "hg": self.hourglass}
+                "stress": self.stress, "route": self.route, "hg": self.hourglass,
+                "grad": self.gradient}
 
 
 @dataclass

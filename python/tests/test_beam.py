@@ -48,10 +48,12 @@ def test_minimisation_and_damped_dynamics_agree():
     assert damped.dh == pytest.approx(static.dh, rel=3e-3)
 
 
-@pytest.mark.parametrize("stress", ["corotated", "pk1"])
-def test_mpi_ranks_agree(stress):
+@pytest.mark.parametrize("stress,gradient", [("corotated", "linear"), ("pk1", "linear"),
+                                             ("pk1", "quadratic")])
+def test_mpi_ranks_agree(stress, gradient):
     """Dynamics under load on 1, 2 and 4 ranks: same tip to 1e-10 relative."""
-    variables = {"dx": 0.004, "route": "nve", "nsteps": 3000, "Fy": -250, "stress": stress}
+    variables = {"dx": 0.004, "route": "nve", "nsteps": 3000, "Fy": -250, "stress": stress,
+                 "grad": gradient}
     tips = [run_mpi(BEAM, variables, n).variables for n in (1, 2, 4)]
     ref = tips[0]
     assert abs(ref["tip_dv"]) > 1e-5   # the beam did move
@@ -60,14 +62,14 @@ def test_mpi_ranks_agree(stress):
         assert other["tip_dh"] == pytest.approx(ref["tip_dh"], rel=1e-10)
 
 
-@pytest.mark.parametrize("dim", [2, 3])
-def test_restart_continuation_equals_uninterrupted(tmp_path, dim):
+@pytest.mark.parametrize("dim,gradient", [(2, "linear"), (3, "linear"), (2, "quadratic")])
+def test_restart_continuation_equals_uninterrupted(tmp_path, dim, gradient):
     rst = tmp_path / "mid.restart"
 
     def start():
         lmp = make_lammps()
         block(lmp, n=(8, 4, 1) if dim == 2 else (5, 4, 3), dim=dim,
-              extra_pair="hourglass 0.1")
+              extra_pair=f"hourglass 0.1 gradient {gradient}")
         lmp.commands_string("""
             velocity all create 1.0 4928459 dist gaussian
             velocity all scale 1.0e-2

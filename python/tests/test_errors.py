@@ -29,6 +29,7 @@ CASES = [
     ("pair_style sph/icb 0.0012 stress cauchy", "Unknown pair_style sph/icb stress cauchy"),
     ("pair_style sph/icb 0.0012 kernel gauss", "Unknown pair_style sph/icb kernel gauss"),
     ("pair_style sph/icb 0.0012 hourglass -1", "hourglass must be >= 0"),
+    ("pair_style sph/icb 0.0012 gradient cubic", "Unknown pair_style sph/icb gradient cubic"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.5", "Poisson's ratio nu must satisfy"),
     ("pair_style sph/icb 0.0012\npair_coeff * * -1e9 0.3", "Young's modulus E must be > 0"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9", "expected I J E nu"),
@@ -132,3 +133,24 @@ def test_partner_beyond_ghost_cutoff_is_an_error(tmp_path):
     assert proc.returncode != 0
     assert "beyond the ghost cut-off" in proc.stdout + proc.stderr
     assert "comm_modify cutoff" in proc.stdout + proc.stderr
+
+
+def test_gradient_cannot_change_after_partners_are_built():
+    lmp = make_lammps()
+    lmp.commands_string(BASE + "pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\nrun 0")
+    lmp.commands_string("pair_style sph/icb 0.0012 stress pk1 gradient quadratic\n"
+                        "pair_coeff * * 1e9 0.3")
+    with pytest.raises(Exception, match="gradient quadratic: the reference partners were already"):
+        lmp.command("run 0")
+    lmp.close()
+
+
+def test_quadratic_gradient_on_a_single_row_is_refused():
+    # two rows of particles cannot tell d^2u/dy^2 from du/dy: the fit is singular
+    lmp = make_lammps()
+    lmp.commands_string(BASE.replace("0 6 0 4", "0 6 0 2"))
+    lmp.commands_string("pair_style sph/icb 0.0012 stress pk1 gradient quadratic\n"
+                        "pair_coeff * * 1e9 0.3\nneighbor 0.0003 nsq")
+    with pytest.raises(Exception, match="too few for the quadratic kernel gradient"):
+        lmp.command("run 0")
+    lmp.close()

@@ -10,10 +10,10 @@ from scipy.linalg import polar
 from conftest import block, make_lammps
 
 
-def perturbed_block(dim, measure, hourglass=0.0, seed=1, amplitude=0.05):
+def perturbed_block(dim, measure, hourglass=0.0, seed=1, amplitude=0.05, gradient="linear"):
     lmp = make_lammps()
     n = (6, 5, 1) if dim == 2 else (4, 4, 3)
-    extra = f"stress {measure} hourglass {hourglass}"
+    extra = f"stress {measure} hourglass {hourglass} gradient {gradient}"
     block(lmp, n=n, dim=dim, extra_pair=extra)
     lmp.command("run 0")
     rng = np.random.default_rng(seed)
@@ -24,10 +24,11 @@ def perturbed_block(dim, measure, hourglass=0.0, seed=1, amplitude=0.05):
     return lmp, natoms
 
 
+@pytest.mark.parametrize("gradient", ["linear", "quadratic"])
 @pytest.mark.parametrize("measure", ["corotated", "pk1"])
 @pytest.mark.parametrize("dim", [2, 3])
-def test_total_force_vanishes(measure, dim):
-    lmp, natoms = perturbed_block(dim, measure, hourglass=0.5)
+def test_total_force_vanishes(measure, dim, gradient):
+    lmp, natoms = perturbed_block(dim, measure, hourglass=0.5, gradient=gradient)
     f = np.array(lmp.numpy.extract_atom("f")[:natoms])
     scale = np.abs(f).max()
     assert scale > 1.0                       # the perturbation does load the particles
@@ -35,10 +36,11 @@ def test_total_force_vanishes(measure, dim):
     lmp.close()
 
 
-@pytest.mark.parametrize("hourglass", [0.0, 0.5])
+@pytest.mark.parametrize("hourglass,gradient", [(0.0, "linear"), (0.5, "linear"),
+                                                (0.0, "quadratic"), (0.5, "quadratic")])
 @pytest.mark.parametrize("dim", [2, 3])
-def test_pk1_force_is_minus_energy_gradient(dim, hourglass):
-    lmp, natoms = perturbed_block(dim, "pk1", hourglass=hourglass)
+def test_pk1_force_is_minus_energy_gradient(dim, hourglass, gradient):
+    lmp, natoms = perturbed_block(dim, "pk1", hourglass=hourglass, gradient=gradient)
     f = np.array(lmp.numpy.extract_atom("f")[:natoms])
     x = lmp.numpy.extract_atom("x")
     step = 1e-9   # m; spacing 1e-3 m, perturbation 5e-5 m

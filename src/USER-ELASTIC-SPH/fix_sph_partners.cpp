@@ -25,6 +25,8 @@
 #include "neigh_list.h"
 #include "neighbor.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -35,8 +37,8 @@ using namespace FixConst;
 
 // doubles per partner in exchange and restart buffers: atom ID + data
 static constexpr int PACKED_PER_PARTNER = 1 + FixSPHPartners::NPDATA;
-// a correction matrix this close to singular means too few partners
-static constexpr double SINGULAR_TOL = 1.0e-8;
+// a moment matrix this badly conditioned means too few partners
+static constexpr double SINGULAR_TOL = 1.0e-10;
 
 /* ---------------------------------------------------------------------- */
 
@@ -52,7 +54,8 @@ FixSPHPartners::FixSPHPartners(LAMMPS *lmp, int narg, char **arg) :
   first = 1;
   maxpartner = 1;
   nmax_lcorr = 0;
-  comm_forward = 9;
+  comm_forward = NCORR;
+  order = 1;
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -93,6 +96,21 @@ void FixSPHPartners::init()
 void FixSPHPartners::init_list(int /*id*/, NeighList *ptr)
 {
   list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   the pair style's gradient order; partners read from a restart file keep
+   the order they were built with
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
+{
+  if (!first && new_order != order)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {} gradient {}: the reference partners were already built with gradient "
+               "{} (restart file or earlier run); keep it, or recreate the atoms",
+               pair_name, new_order == 2 ? "quadratic" : "linear", order == 2 ? "quadratic" : "linear");
+  order = new_order;
 }
 
 /* ----------------------------------------------------------------------
@@ -163,64 +181,94 @@ void FixSPHPartners::collect_partners()
 }
 
 /* ----------------------------------------------------------------------
-   M_i = sum_j V_j (X_j - X_i) (x) gradW_ij, L_i = M_i^-1,
-   g_ij = V_j L_i gradW_ij and g_ji = V_i L_j gradW_ji for every partner
+   size of the least-squares basis: the d offsets, plus the d(d+1)/2
+   quadratic monomials when the gradient is exact for quadratic fields
+------------------------------------------------------------------------- */
+
+static int basis_size(int dim, int order)
+{
+  return (order == 2) ? dim + dim * (dim + 1) / 2 : dim;
+}
+
+/* ----------------------------------------------------------------------
+   basis at reference offset del, in units of h so that the moment matrix
+   is well scaled: del/h, then (del_a del_b)/h^2 for a <= b
+------------------------------------------------------------------------- */
+
+static void fill_basis(const double *del, double hinv, int dim, int order, double *p)
+{
+  int n = 0;
+  for (int a = 0; a < dim; a++) p[n++] = del[a] * hinv;
+  if (order == 2)
+    for (int a = 0; a < dim; a++)
+      for (int b = a; b < dim; b++) p[n++] = del[a] * del[b] * hinv * hinv;
+}
+
+/* ----------------------------------------------------------------------
+   corrected gradients from a kernel-weighted least-squares fit of
+   u_j - u_i over the partners, weights V_j w_ij with gradW_ij = w_ij del:
+     A_i = sum_j V_j w_ij P_ij P_ij^T,   g_ij = V_j w_ij [A_i^-1 P_ij]_(1..d)
+   With the linear basis P = del this is the paper's correction,
+   g_ij = V_j L_i gradW_ij with L_i = M_i^-1; the quadratic basis also
+   makes F exact for quadratic fields, which removes the O(h) error at
+   free surfaces where the partner set is one-sided (bending).
+   Either way sum_j del_ij (x) g_ij = I, so linear fields stay exact.
 ------------------------------------------------------------------------- */
 
 void FixSPHPartners::compute_corrections()
 {
+  using MomentMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MAXBASIS, MAXBASIS>;
   const double *const *const x0 = atom->x0;
   const double *const vfrac = atom->vfrac;
   const int nlocal = atom->nlocal;
   const int dim = domain->dimension;
+  const int nbasis = basis_size(dim, order);
+  const double hinv = 1.0 / kernel.h;
 
   if (atom->nmax > nmax_lcorr) {
     memory->destroy(lcorr);
     nmax_lcorr = atom->nmax;
-    memory->create(lcorr, nmax_lcorr, 9, "sph/partners:lcorr");
+    memory->create(lcorr, nmax_lcorr, NCORR, "sph/partners:lcorr");
   }
 
   auto reference_offset = [&](int i, int j, double *del) {
     for (int a = 0; a < 3; a++) del[a] = x0[j][a] - x0[i][a];
     domain->minimum_image(del[0], del[1], del[2]);
   };
+  // w_ij with gradW_ij = W'(r) (X_i - X_j)/r = w_ij (X_j - X_i)
+  auto kernel_weight = [&](const double *del, double &r) {
+    r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+    return -kernel.derivative(r) / r;
+  };
 
   for (int i = 0; i < nlocal; i++) {
-    double m[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    MomentMatrix moment = MomentMatrix::Zero(nbasis, nbasis);
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);
       if (j < 0)
         error->one(FLERR, Error::NOLASTLINE, "Reference partner {} of atom {} is not on this processor",
                    partner[i][k], atom->tag[i]);
-      double del[3];
+      double del[3], p[MAXBASIS], r;
       reference_offset(i, j, del);
-      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-      // (X_j - X_i) (x) gradW_ij with gradW_ij = -W'(r) del/r
-      const double w = -vfrac[j] * kernel.derivative(r) / r;
-      for (int a = 0; a < dim; a++)
-        for (int b = 0; b < dim; b++) m[a][b] += w * del[a] * del[b];
+      const double weight = vfrac[j] * kernel_weight(del, r);
+      fill_basis(del, hinv, dim, order, p);
+      for (int a = 0; a < nbasis; a++)
+        for (int b = 0; b < nbasis; b++) moment(a, b) += weight * p[a] * p[b];
     }
-    if (dim == 2) m[2][2] = 1.0;
 
-    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-        m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-        m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    const double scale = m[0][0] * m[1][1] * m[2][2];
-    if (!(std::fabs(det) > SINGULAR_TOL * std::fabs(scale)) || !std::isfinite(det))
+    Eigen::LLT<MomentMatrix> llt(moment);
+    if (llt.info() != Eigen::Success || !(llt.rcond() > SINGULAR_TOL))
       error->one(FLERR, Error::NOLASTLINE,
-                 "Atom {} has {} reference partners, too few for the kernel gradient correction "
-                 "(isolated particle, or h too small for the particle spacing)",
-                 atom->tag[i], npartner[i]);
+                 "Atom {} has {} reference partners, too few for the {} kernel gradient correction "
+                 "(isolated particle, h too small for the particle spacing{})",
+                 atom->tag[i], npartner[i], order == 2 ? "quadratic" : "linear",
+                 order == 2 ? ", or a body too thin for 'gradient quadratic'" : "");
+    // first d rows of A^-1, divided by h to undo the scaling of the offsets
+    const MomentMatrix inverse = llt.solve(MomentMatrix::Identity(nbasis, nbasis));
     double *l = lcorr[i];
-    l[0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
-    l[1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) / det;
-    l[2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) / det;
-    l[3] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) / det;
-    l[4] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
-    l[5] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) / det;
-    l[6] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) / det;
-    l[7] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) / det;
-    l[8] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
+    for (int a = 0; a < NCORR; a++) l[a] = 0.0;
+    for (int a = 0; a < dim; a++)
+      for (int b = 0; b < nbasis; b++) l[a * MAXBASIS + b] = inverse(a, b) * hinv;
   }
 
   // ghosts need their own correction for g_ji
@@ -229,23 +277,23 @@ void FixSPHPartners::compute_corrections()
   for (int i = 0; i < nlocal; i++) {
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);
-      double del[3];
+      double del[3], back[3], pij[MAXBASIS], pji[MAXBASIS], r;
       reference_offset(i, j, del);
-      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
-      double gradw[3];    // gradW_ij = W'(r) (X_i - X_j)/r
-      const double dwr = kernel.derivative(r) / r;
-      for (int a = 0; a < 3; a++) gradw[a] = -dwr * del[a];
+      for (int a = 0; a < 3; a++) back[a] = -del[a];
+      const double w = kernel_weight(del, r);
+      fill_basis(del, hinv, dim, order, pij);
+      fill_basis(back, hinv, dim, order, pji);
       double *pd = &pdata[i][k * NPDATA];
       const double *li = lcorr[i];
       const double *lj = lcorr[j];
       for (int a = 0; a < 3; a++) {
-        double lig = 0.0, ljg = 0.0;
-        for (int b = 0; b < 3; b++) {
-          lig += li[3 * a + b] * gradw[b];
-          ljg += lj[3 * a + b] * gradw[b];
+        double lip = 0.0, ljp = 0.0;
+        for (int b = 0; b < nbasis; b++) {
+          lip += li[a * MAXBASIS + b] * pij[b];
+          ljp += lj[a * MAXBASIS + b] * pji[b];
         }
-        pd[GIJ + a] = vfrac[j] * lig;
-        pd[GJI + a] = -vfrac[i] * ljg;    // gradW_ji = -gradW_ij
+        pd[GIJ + a] = vfrac[j] * w * lip;
+        pd[GJI + a] = vfrac[i] * w * ljp;
       }
       pd[R0] = r;
       for (int a = 0; a < 3; a++) pd[DX0 + a] = del[a];
@@ -277,7 +325,7 @@ double FixSPHPartners::memory_usage()
 {
   const double nmax = atom->nmax;
   return nmax * sizeof(int) + nmax * maxpartner * (sizeof(tagint) + NPDATA * sizeof(double)) +
-      (double) nmax_lcorr * 9 * sizeof(double);
+      (double) nmax_lcorr * NCORR * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -338,10 +386,10 @@ int FixSPHPartners::unpack_exchange(int nlocal, double *buf)
 void FixSPHPartners::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    int size = 2 * sizeof(double);
-    double list[2] = {(double) first, (double) maxpartner};
+    int size = 3 * sizeof(double);
+    double list[3] = {(double) first, (double) maxpartner, (double) order};
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 2, fp);
+    fwrite(list, sizeof(double), 3, fp);
   }
 }
 
@@ -352,6 +400,7 @@ void FixSPHPartners::restart(char *buf)
   auto *list = (double *) buf;
   first = static_cast<int>(list[0]);
   maxpartner = static_cast<int>(list[1]);
+  order = static_cast<int>(list[2]);
   memory->destroy(partner);
   memory->destroy(pdata);
   grow_arrays(atom->nmax);
@@ -398,7 +447,7 @@ int FixSPHPartners::pack_forward_comm(int n, int *list, double *buf, int /*pbc_f
 {
   int m = 0;
   for (int ii = 0; ii < n; ii++)
-    for (int a = 0; a < 9; a++) buf[m++] = lcorr[list[ii]][a];
+    for (int a = 0; a < NCORR; a++) buf[m++] = lcorr[list[ii]][a];
   return m;
 }
 
@@ -408,5 +457,5 @@ void FixSPHPartners::unpack_forward_comm(int n, int first_atom, double *buf)
 {
   int m = 0;
   for (int i = first_atom; i < first_atom + n; i++)
-    for (int a = 0; a < 9; a++) lcorr[i][a] = buf[m++];
+    for (int a = 0; a < NCORR; a++) lcorr[i][a] = buf[m++];
 }

@@ -38,6 +38,9 @@ class FixSPHPartners : public Fix {
   // doubles stored per partner: g_ij (3), g_ji (3), reference distance,
   // reference offset X_j - X_i (3), (V_i |g_ij| + V_j |g_ji|) / (2 r0)
   static constexpr int GIJ = 0, GJI = 3, R0 = 6, DX0 = 7, HGW = 10, NPDATA = 11;
+  // largest least-squares basis (3d quadratic) and the d x basis block of
+  // the inverse moment matrix that each atom sends to its ghosts
+  static constexpr int MAXBASIS = 9, NCORR = 3 * MAXBASIS;
 
   FixSPHPartners(class LAMMPS *, int, char **);
   ~FixSPHPartners() override;
@@ -62,6 +65,7 @@ class FixSPHPartners : public Fix {
   void unpack_forward_comm(int, int, double *) override;
 
   void set_kernel(const SPHElastic::Kernel &k) { kernel = k; }
+  void set_gradient_order(int, const char *);    // 1 linear, 2 quadratic
   bool built() const { return !first; }
   int find_partner(int i, int k);    // local index of partner k of owned atom i
 
@@ -74,7 +78,8 @@ class FixSPHPartners : public Fix {
   int first;    // 1 until the partners are built
   class NeighList *list;
   SPHElastic::Kernel kernel;
-  double **lcorr;    // gradient correction L = M^-1 (owned + ghost), only while building
+  int order;         // polynomial order the corrected gradient is exact for
+  double **lcorr;    // d x MAXBASIS rows of the inverse moment matrix (owned + ghost), build only
   int nmax_lcorr;
 
   void build();

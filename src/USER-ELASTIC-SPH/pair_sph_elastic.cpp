@@ -55,6 +55,7 @@ PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
   h = 0.0;
   plane = PLANE_STRAIN;
   plane_given = 0;
+  gradient_order = 1;
   dt_unit = 0.0;
   nmax_output = 0;
   // compute pair ID all sph/...: [1] = h/c_max, the unit of the stable time step
@@ -238,6 +239,7 @@ void PairSPHElastic::connect_partners()
     error->all(FLERR, Error::NOLASTLINE, "Fix ID {} is reserved for pair style {}", PARTNERS_ID,
                style_name());
   partners->set_kernel(kernel);
+  partners->set_gradient_order(gradient_order, style_name());
 }
 
 /* ----------------------------------------------------------------------

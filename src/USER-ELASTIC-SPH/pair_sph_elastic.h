@@ -58,6 +58,7 @@ class PairSPHElastic : public Pair {
   SPHElastic::Kernel kernel;
   int plane;
   int plane_given;
+  int gradient_order;              // 1: paper's linear correction, 2: exact for quadratic fields
   double *youngs, *poisson;        // per type, from pair_coeff
   double *lame_lambda, *lame_mu;   // per type, 2d plane stress uses lambda*
   double *bulk;                    // per type, bulk modulus lambda + 2 mu/3 (3d lambda)

@@ -72,11 +72,22 @@ PairSPHICB::~PairSPHICB()
 }
 
 /* ----------------------------------------------------------------------
-   stress corotated|pk1, hourglass alpha
+   stress corotated|pk1, hourglass alpha, gradient linear|quadratic
 ------------------------------------------------------------------------- */
 
 int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
 {
+  if (strcmp(arg[iarg], "gradient") == 0) {
+    if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "pair_style sph/icb gradient", error);
+    if (strcmp(arg[iarg + 1], "linear") == 0)
+      gradient_order = 1;
+    else if (strcmp(arg[iarg + 1], "quadratic") == 0)
+      gradient_order = 2;
+    else
+      error->all(FLERR, iarg + 1, "Unknown pair_style sph/icb gradient {}: use linear or quadratic",
+                 arg[iarg + 1]);
+    return 2;
+  }
   if (strcmp(arg[iarg], "hourglass") == 0) {
     if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "pair_style sph/icb hourglass", error);
     hourglass = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
@@ -338,6 +349,7 @@ void PairSPHICB::write_restart_settings(FILE *fp)
   PairSPHElastic::write_restart_settings(fp);
   fwrite(&measure, sizeof(int), 1, fp);
   fwrite(&hourglass, sizeof(double), 1, fp);
+  fwrite(&gradient_order, sizeof(int), 1, fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -348,8 +360,10 @@ void PairSPHICB::read_restart_settings(FILE *fp)
   if (comm->me == 0) {
     utils::sfread(FLERR, &measure, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &hourglass, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &gradient_order, sizeof(int), 1, fp, nullptr, error);
   }
   MPI_Bcast(&measure, 1, MPI_INT, 0, world);
+  MPI_Bcast(&gradient_order, 1, MPI_INT, 0, world);
   MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, world);
 }
 
