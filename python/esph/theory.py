@@ -127,4 +127,26 @@ class Truss:
         return self.H * self.t
 
     def linear(self, load: float) -> float:
+        """The paper's theory, eq. (3.4): delta = F L/(A E)."""
         return load * self.L / (self.area * self.E)
+
+    def stretch(self, load: float, model: str) -> float:
+        """Exact uniaxial stretch lambda of the bar (nu = 0: no lateral strain,
+        so the area stays A) for the constitutive model a scheme runs:
+          pk1        Green strain + SVK, P = F S:  lambda (lambda^2 - 1) E/2 = F/A
+          corotated  the paper's P = R S = S:      (lambda^2 - 1) E/2 = F/A
+          hypo       CCB's Jaumann rate:           E ln(lambda) = F/A"""
+        s = load / (self.area * self.E)
+        if model == "corotated":
+            return math.sqrt(1.0 + 2.0 * s)
+        if model == "hypo":
+            return math.exp(s)
+        if model == "pk1":
+            # lambda^3 - lambda - 2 s = 0, the root continuous from lambda = 1
+            return optimize.brentq(lambda lam: lam ** 3 - lam - 2.0 * s, 0.58, 3.0)
+        raise ValueError(f"unknown truss model {model!r}: pk1, corotated or hypo")
+
+    def displacement(self, load: float, model: str, X: float | None = None) -> float:
+        """Axial displacement of material point X (default the free end L)."""
+        X = self.L if X is None else X
+        return (self.stretch(load, model) - 1.0) * X

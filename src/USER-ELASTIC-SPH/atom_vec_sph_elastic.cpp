@@ -60,11 +60,13 @@ AtomVecSPHElastic::AtomVecSPHElastic(LAMMPS *lmp) : AtomVec(lmp)
   atom->add_peratom_change_columns("smd_stress", NSYMM);
 
   // clang-format off
+  // rho and tau are only needed on ghosts by sph/ccb, which sends them
+  // itself, so sph/icb runs do not pay for them in every communication
   fields_grow = {"x0", "vfrac", "rmass", "rho", "drho", "smd_stress", "molecule"};
   fields_copy = {"x0", "vfrac", "rmass", "rho", "drho", "smd_stress", "molecule"};
-  fields_comm = {"rho", "smd_stress"};
-  fields_comm_vel = {"rho", "smd_stress"};
-  fields_reverse = {"drho"};
+  fields_comm = {};
+  fields_comm_vel = {};
+  fields_reverse = {};    // sph/ccb sums drho over full neighbour lists
   fields_border = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
   fields_border_vel = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
   fields_exchange = {"x0", "vfrac", "rmass", "rho", "smd_stress", "molecule"};
@@ -102,7 +104,9 @@ void AtomVecSPHElastic::force_clear(int n, size_t nbytes)
 /* ----------------------------------------------------------------------
    a created particle starts in its reference state: x0 = x, unit volume
    and mass (set them with "set ... volume" and "set ... mass"), density
-   rho0 = m/V0, no deviatoric stress, body 0
+   no deviatoric stress, body 0.  The density is 0 = "not set yet": the
+   volume and mass are only known after "set", so sph/ccb sets rho = m/V0
+   for such particles when a run starts
 ------------------------------------------------------------------------- */
 
 void AtomVecSPHElastic::create_atom_post(int ilocal)
@@ -113,7 +117,7 @@ void AtomVecSPHElastic::create_atom_post(int ilocal)
   x0[ilocal][2] = x[ilocal][2];
   vfrac[ilocal] = 1.0;
   rmass[ilocal] = 1.0;
-  rho[ilocal] = 1.0;
+  rho[ilocal] = 0.0;
 }
 
 /* ----------------------------------------------------------------------

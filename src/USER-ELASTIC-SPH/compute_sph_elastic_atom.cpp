@@ -68,7 +68,9 @@ ComputeSPHElasticAtom::ComputeSPHElasticAtom(LAMMPS *lmp, int narg, char **arg) 
     ncols += match->ncols;
   }
   peratom_flag = 1;
-  size_peratom_cols = ncols;
+  // one quantity of one column is a per-atom vector (for compute reduce,
+  // fix halt variables, dump custom c_ID without a column index)
+  size_peratom_cols = (ncols == 1) ? 0 : ncols;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -88,6 +90,11 @@ void ComputeSPHElasticAtom::init()
                "Compute sph/elastic/atom requires pair style sph/icb or sph/ccb");
   rotfix = nullptr;
   for (int q : quantities)
+    if (q == STRAIN && !pair->has_green())
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Compute sph/elastic/atom strain needs a total-Lagrangian pair style (sph/icb); "
+                 "pair style {} has no Green strain", force->pair_style);
+  for (int q : quantities)
     if (q == ROTATION) {
       auto fixes = modify->get_fix_by_style("^sph/rotation$");
       if (fixes.empty())
@@ -105,8 +112,10 @@ void ComputeSPHElasticAtom::compute_peratom()
   if (atom->nmax > nmax) {
     memory->destroy(output);
     nmax = atom->nmax;
-    memory->create(output, nmax, size_peratom_cols, "sph/elastic/atom:output");
+    memory->create(output, nmax, MAX(size_peratom_cols, 1), "sph/elastic/atom:output");
     array_atom = output;
+    // rows of one column are contiguous: the vector view of the same storage
+    vector_atom = (size_peratom_cols == 0 && nmax > 0) ? &output[0][0] : nullptr;
   }
 
   const int nlocal = atom->nlocal;
@@ -114,7 +123,7 @@ void ComputeSPHElasticAtom::compute_peratom()
   for (int i = 0; i < nlocal; i++) {
     double *out = output[i];
     if (!(mask[i] & groupbit)) {
-      for (int c = 0; c < size_peratom_cols; c++) out[c] = 0.0;
+      for (int c = 0; c < MAX(size_peratom_cols, 1); c++) out[c] = 0.0;
       continue;
     }
     int c = 0;

@@ -56,6 +56,7 @@ PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
   plane = PLANE_STRAIN;
   plane_given = 0;
   gradient_order = 1;
+  thickness = 0.0;
   dt_unit = 0.0;
   nmax_output = 0;
   // compute pair ID all sph/...: [1] = h/c_max, the unit of the stable time step
@@ -101,7 +102,8 @@ void PairSPHElastic::allocate()
 }
 
 /* ----------------------------------------------------------------------
-   pair_style sph/... h [kernel sinc5|wendland] [plane strain|stress] [style keywords]
+   pair_style sph/... h [kernel sinc5|wendland] [plane strain|stress]
+                        [thickness t] [style keywords]
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::settings(int narg, char **arg)
@@ -137,15 +139,24 @@ void PairSPHElastic::settings(int narg, char **arg)
                    style_name(), arg[iarg + 1]);
       plane_given = 1;
       iarg += 2;
+    } else if (strcmp(arg[iarg], "thickness") == 0) {
+      if (iarg + 1 >= narg)
+        utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name() + " thickness", error);
+      thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (thickness <= 0.0)
+        error->all(FLERR, iarg + 1, "Pair style {} thickness must be > 0, got {}", style_name(),
+                   thickness);
+      iarg += 2;
     } else {
       const int used = parse_keyword(iarg, narg, arg);
       if (used == 0) error->all(FLERR, iarg, "Unknown pair_style {} keyword: {}", style_name(), arg[iarg]);
       iarg += used;
     }
   }
-  if (plane_given && domain->dimension != 2)
+  if ((plane_given || thickness > 0.0) && domain->dimension != 2)
     error->all(FLERR, Error::NOLASTLINE,
-               "Pair style {} keyword plane is only valid for 2d simulations", style_name());
+               "Pair style {} keywords plane and thickness are only valid for 2d simulations",
+               style_name());
   kernel = SPHElastic::Kernel(ktype, h, domain->dimension);
 }
 
@@ -215,9 +226,10 @@ void PairSPHElastic::init_style()
 {
   if (!atom->style_match("sph/elastic"))
     error->all(FLERR, Error::NOLASTLINE, "Pair style {} requires atom_style sph/elastic", style_name());
-  if (plane_given && domain->dimension != 2)
+  if ((plane_given || thickness > 0.0) && domain->dimension != 2)
     error->all(FLERR, Error::NOLASTLINE,
-               "Pair style {} keyword plane is only valid for 2d simulations", style_name());
+               "Pair style {} keywords plane and thickness are only valid for 2d simulations",
+               style_name());
   // settings() may have run before the dimension was final
   kernel = SPHElastic::Kernel(kernel.type, h, domain->dimension);
   check_atoms();
@@ -348,6 +360,7 @@ void PairSPHElastic::write_restart_settings(FILE *fp)
   fwrite(&ktype, sizeof(int), 1, fp);
   fwrite(&plane, sizeof(int), 1, fp);
   fwrite(&plane_given, sizeof(int), 1, fp);
+  fwrite(&thickness, sizeof(double), 1, fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -360,7 +373,9 @@ void PairSPHElastic::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &ktype, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &plane, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &plane_given, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &thickness, sizeof(double), 1, fp, nullptr, error);
   }
+  MPI_Bcast(&thickness, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&h, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&ktype, 1, MPI_INT, 0, world);
   MPI_Bcast(&plane, 1, MPI_INT, 0, world);
@@ -388,6 +403,7 @@ void *PairSPHElastic::extract(const char *str, int &dim)
 {
   dim = 0;
   if (strcmp(str, "h") == 0) return (void *) &h;
+  if (strcmp(str, "thickness") == 0) return (void *) &thickness;
   dim = 1;
   if (strcmp(str, "E") == 0) return (void *) youngs;
   if (strcmp(str, "nu") == 0) return (void *) poisson;

@@ -51,6 +51,7 @@ class PairSPHElastic : public Pair {
   double **green;     // Green-Lagrange strain, NSYMM columns
   double stable_dt_unit() const { return dt_unit; }
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
+  virtual bool has_green() const { return true; }    // is the green array filled
   class FixSPHPartners *get_partners() const { return partners; }
 
  protected:
@@ -58,6 +59,7 @@ class PairSPHElastic : public Pair {
   SPHElastic::Kernel kernel;
   int plane;
   int plane_given;
+  double thickness;                // 2d out-of-plane thickness (0 = not given)
   int gradient_order;              // 1: paper's linear correction, 2: exact for quadratic fields
   double *youngs, *poisson;        // per type, from pair_coeff
   double *lame_lambda, *lame_mu;   // per type, 2d plane stress uses lambda*

@@ -27,6 +27,7 @@
 #include "fix_sph_partners.h"
 #include "fix_sph_rotation.h"
 #include "memory.h"
+#include "sph_elastic_math.h"
 #include "modify.h"
 #include "update.h"
 
@@ -211,9 +212,7 @@ double PairSPHICB::stress_pass(int i, int *jl)
     F[2][2] = 1.0;
   }
 
-  const double detF = F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) -
-      F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
-      F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+  const double detF = SPHElastic::det3(F);
   if (!std::isfinite(detF))
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}; the run "
@@ -256,9 +255,8 @@ double PairSPHICB::stress_pass(int i, int *jl)
   double FS[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
-  static constexpr int VA[NSYMM] = {0, 1, 2, 0, 0, 1}, VB[NSYMM] = {0, 1, 2, 1, 2, 2};
   for (int v = 0; v < NSYMM; v++) {
-    const int a = VA[v], b = VB[v];
+    const int a = SPHElastic::VOIGT_ROW[v], b = SPHElastic::VOIGT_COL[v];
     cauchy[i][v] = (FS[a][0] * F[b][0] + FS[a][1] * F[b][1] + FS[a][2] * F[b][2]) / detF;
     green[i][v] = E[a][b];
   }

@@ -1,0 +1,51 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sph/ccb/nve,FixSPHCCBNVE);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_CCB_NVE_H
+#define LMP_FIX_SPH_CCB_NVE_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   velocity Verlet for pair style sph/ccb: x and v as fix nve; density and
+   deviatoric stress drift a full step with x, from the rates of pair
+   sph/ccb at the half-step velocities
+------------------------------------------------------------------------- */
+
+class FixSPHCCBNVE : public Fix {
+ public:
+  FixSPHCCBNVE(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void initial_integrate(int) override;
+  void pre_force(int) override;
+  void final_integrate() override;
+  void reset_dt() override;
+
+ private:
+  double dtv, dtf;
+  class PairSPHCCB *pair;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
