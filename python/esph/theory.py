@@ -32,6 +32,15 @@ PAPER_BEAM = {
                "dh": (-0.012, -0.074, -0.298, -0.667, -2.599, -6.792)},
 }
 
+# Table 3 (truss, dx = 2 mm): horizontal tip displacement in mm, None = broken
+PAPER_TRUSS_LOADS = (1000.0, 3000.0, 5000.0, 7000.0, -1000.0, -3000.0, -5000.0, -7000.0)
+PAPER_TRUSS = {
+    "CCB": (None, None, None, None, -2.04, -6.02, -9.86, -13.59),
+    "CCBWAT": (2.51, 7.15, None, None, -2.04, -6.03, -9.86, -13.59),
+    "ICB": (1.96, 5.82, 9.62, 13.45, -1.98, -5.95, -10.01, -14.33),
+    "theory": (2.00, 6.00, 10.00, 14.00, -2.00, -6.00, -10.00, -14.00),
+}
+
 
 @dataclass(frozen=True)
 class Beam:

@@ -38,6 +38,22 @@ CASES = [
     ("fix r all sph/rotation tol 0", "tol must be > 0"),
     ("fix r all sph/rotation bogus 1", "Unknown fix sph/rotation keyword: bogus"),
     ("compute c all sph/elastic/atom temperature", "Unknown compute sph/elastic/atom quantity"),
+    ("pair_style sph/ccb 0.0012 thickness 0", "thickness must be > 0"),
+    ("pair_style sph/ccb 0.0012 viscosity 1", "pair_style sph/ccb viscosity"),
+    ("pair_style sph/ccb 0.0012 viscosity -1 0", "viscosity a and b must be >= 0"),
+    ("pair_style sph/ccb 0.0012 artificial_stress 0.3 4 0", "dp (initial particle spacing) must be > 0"),
+    ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nrun 0",
+     "requires fix sph/ccb/nve"),
+    ("pair_style sph/ccb 0.0012\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\nrun 0",
+     "in 2d needs the keyword 'thickness t'"),
+    ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\n"
+     "fix i all sph/ccb/nve\nminimize 0 1e-6 10 10", "is rate based and cannot be minimized"),
+    ("pair_style sph/ccb 0.0012 thickness 1e-3 artificial_stress 0.3 4 0.01\n"
+     "pair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\nrun 0", "lies outside the kernel support"),
+    ("pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\nrun 0",
+     "requires pair style sph/ccb"),
+    ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\n"
+     "compute c all sph/elastic/atom strain\nrun 0", "strain needs a total-Lagrangian pair style"),
 ]
 
 

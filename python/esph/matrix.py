@@ -1,0 +1,117 @@
+"""The paper's failure matrix (Tables 1 and 3): every scheme on the beam and
+the truss, survived or failed (with the time of failure), displacement and
+error against the exact answer of the model the scheme runs."""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from . import theory
+from .paths import EXAMPLES
+from .runner import run_mpi
+
+SCHEMES = ("ccb", "ccbwat", "icb")
+PAPER_NAME = {"ccb": "CCB", "ccbwat": "CCBWAT", "icb": "ICB"}
+BEAM_SCRIPT = EXAMPLES / "beam" / "in.beam"
+TRUSS_SCRIPT = EXAMPLES / "truss" / "in.truss"
+_ERROR_RE = re.compile(r"^ERROR.*$", re.M)
+
+
+@dataclass
+class Outcome:
+    scheme: str
+    load: float
+    dh: float = float("nan")
+    dv: float = float("nan")
+    failed: bool = False
+    time: float = float("nan")     # s, end of the run or time of failure
+    reason: str = ""
+    steps: int = 0
+    wall: float = 0.0
+
+    def status(self) -> str:
+        if not self.failed:
+            return "ok"
+        return f"FAILED t={self.time * 1e3:.3f}ms" if self.time == self.time else "FAILED"
+
+
+def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
+    """ICB by minimisation (pk1: exact energy gradient), CCB and CCBWAT by
+    damped dynamics with the failure monitor of examples/common/in.failure."""
+    route = "min" if scheme == "icb" else "dyn"
+    stress = {"stress": "pk1"} if scheme == "icb" else {}
+    load = variables.get("Fy", variables.get("Fx"))
+    out = Outcome(scheme, load)
+    try:
+        res = run_mpi(script, {**variables, "scheme": scheme, "route": route, **stress}, nprocs)
+    except RuntimeError as err:      # a LAMMPS error: non-finite state, inverted particle
+        msg = _ERROR_RE.search(str(err))
+        out.failed, out.reason = True, msg.group(0) if msg else str(err)[-200:]
+        return out
+    v = res.variables
+    out.dh, out.dv = v["tip_dh"], v["tip_dv"]
+    out.failed = v.get("failed", 0.0) > 0.5
+    out.time, out.steps, out.wall = v["time"], int(v["steps"]), res.wall
+    if out.failed:
+        out.reason = "adjacent particles farther apart than 2h"
+    return out
+
+
+def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOADS,
+               progress=print) -> list[Outcome]:
+    beam = theory.Beam()
+    rows = []
+    print(f"\nTable 1: beam (L = 0.2 m, H = 2 cm, E = 20 GPa, nu = 0, plane stress), dx = "
+          f"{dx * 1e3:g} mm; tip dv in mm, error against the elastica at s = L - dx/2")
+    head = f"{'Fy[N]':>6} {'exact':>8} | " + " | ".join(
+        f"{PAPER_NAME[s]:>6} {'ours':>8} {'err':>6} {'paper':>7}" for s in SCHEMES)
+    print(head)
+    print("-" * len(head))
+    for k, load in enumerate(loads):
+        exact = theory.beam_tip(beam, load, s=beam.L - 0.5 * dx)[1]
+        cells = []
+        for scheme in SCHEMES:
+            progress(f"[esph] beam {scheme} Fy = {load:g} N ...")
+            o = run_case(BEAM_SCRIPT, scheme, {"Fy": load, "dx": dx, "tdamp": tdamp}, nprocs)
+            rows.append(o)
+            paper = theory.PAPER_BEAM[PAPER_NAME[scheme]]["dv"][k]
+            paper_txt = f"{paper:7.2f}" if paper is not None else f"{'broken':>7}"
+            if o.failed:
+                cells.append(f"{'':>6} {o.status():>15} {paper_txt}")
+            else:
+                cells.append(f"{'':>6} {o.dv * 1e3:8.3f} {100 * (o.dv / exact - 1):5.1f}% {paper_txt}")
+        print(f"{load:6.0f} {exact * 1e3:8.3f} | " + " | ".join(cells), flush=True)
+    return rows
+
+
+def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_LOADS,
+                progress=print) -> list[Outcome]:
+    truss = theory.Truss()
+    X = truss.L - 0.5 * dx
+    model = {"icb": "pk1", "ccb": "hypo", "ccbwat": "hypo"}
+    rows = []
+    print(f"\nTable 3: truss (L = 0.2 m, H = 5 cm, E = 2 GPa, nu = 0, plane stress), dx = "
+          f"{dx * 1e3:g} mm; tip dh in mm.  exact = the scheme's own model at X = L - dx/2 "
+          "(ICB: Green strain + SVK, P = F S; CCB: Jaumann rate, E ln(stretch) = F/A); "
+          "linear = F L/(A E); lateral = |tip dv| (buckling shows here)")
+    head = f"{'Fx[N]':>6} {'linear':>7} | " + " | ".join(
+        f"{PAPER_NAME[s]:>6} {'ours':>8} {'exact':>8} {'err':>6} {'lateral':>8} {'paper':>7}"
+        for s in SCHEMES)
+    print(head)
+    print("-" * len(head))
+    for k, load in enumerate(loads):
+        cells = []
+        for scheme in SCHEMES:
+            progress(f"[esph] truss {scheme} Fx = {load:g} N ...")
+            o = run_case(TRUSS_SCRIPT, scheme, {"Fx": load, "dx": dx, "tdamp": tdamp}, nprocs)
+            rows.append(o)
+            exact = truss.displacement(load, model[scheme], X)
+            paper = theory.PAPER_TRUSS[PAPER_NAME[scheme]][k]
+            paper_txt = f"{paper:7.2f}" if paper is not None else f"{'broken':>7}"
+            if o.failed:
+                cells.append(f"{'':>6} {o.status():>33} {paper_txt}")
+            else:
+                cells.append(f"{'':>6} {o.dh * 1e3:8.3f} {exact * 1e3:8.3f} "
+                             f"{100 * (o.dh / exact - 1):5.1f}% {abs(o.dv) * 1e3:8.4f} {paper_txt}")
+        print(f"{load:6.0f} {truss.linear(load) * 1e3:7.2f} | " + " | ".join(cells), flush=True)
+    return rows
