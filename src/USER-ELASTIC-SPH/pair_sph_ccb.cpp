@@ -213,8 +213,7 @@ void PairSPHCCB::compute(int eflag, int vflag)
    x - back v.  Fix sph/ccb/nve calls this before the force with the
    half-step velocities and back = dt/2, i.e. at the mid-step positions,
    then advances rho and tau by a full step, like x: a velocity Verlet,
-   stable for omega dt < 2, and a rigid spin gives exactly zero strain
-   rate.
+   stable for omega dt < 2, and a rigid motion leaves rho unchanged.
 ------------------------------------------------------------------------- */
 
 void PairSPHCCB::compute_rates(double back)
