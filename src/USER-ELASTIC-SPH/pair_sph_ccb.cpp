@@ -24,7 +24,6 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_sph_partners.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
