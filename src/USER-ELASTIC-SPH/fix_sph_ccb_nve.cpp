@@ -32,16 +32,19 @@ using namespace FixConst;
 /* ---------------------------------------------------------------------- */
 
 FixSPHCCBNVE::FixSPHCCBNVE(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr)
+    FixNVE(lmp, narg, arg), pair(nullptr)
 {
   if (narg != 3) error->all(FLERR, "Illegal fix sph/ccb/nve command: it takes no arguments");
-  if (!atom->rho_flag || !atom->smd_stress_flag)
+  if (!atom->rho_flag || !atom->smd_stress_flag || !atom->rmass_flag)
     error->all(FLERR, "Fix sph/ccb/nve requires atom_style sph/elastic");
-  time_integrate = 1;
-  dtv = dtf = 0.0;
+  // the state of atoms that enter or leave the group would jump
+  dynamic_group_allow = 0;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   fix nve's kick and drift, plus the state drift before the force; no
+   rRESPA levels
+------------------------------------------------------------------------- */
 
 int FixSPHCCBNVE::setmask()
 {
@@ -52,52 +55,22 @@ int FixSPHCCBNVE::setmask()
 
 void FixSPHCCBNVE::init()
 {
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR, Error::NOLASTLINE, "Fix sph/ccb/nve does not support run_style respa");
+  FixNVE::init();
   pair = dynamic_cast<PairSPHCCB *>(force->pair_match("sph/ccb", 1, 0));
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/ccb/nve requires pair style sph/ccb (for sph/icb use fix nve)");
-  if (utils::strmatch(update->integrate_style, "^respa"))
-    error->all(FLERR, Error::NOLASTLINE, "Fix sph/ccb/nve does not support run_style respa");
-  reset_dt();
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixSPHCCBNVE::reset_dt()
-{
-  dtv = update->dt;
-  dtf = 0.5 * update->dt * force->ftm2v;
-}
-
-/* ----------------------------------------------------------------------
-   kick and drift: v(n+1/2) = v(n) + dt/2 a(n), x(n+1) = x(n) + dt v(n+1/2)
-------------------------------------------------------------------------- */
-
-void FixSPHCCBNVE::initial_integrate(int /*vflag*/)
-{
-  double *const *const x = atom->x;
-  double *const *const v = atom->v;
-  const double *const *const f = atom->f;
-  const double *const rmass = atom->rmass;
-  const int *const mask = atom->mask;
-  const int nlocal = (igroup == atom->firstgroup) ? atom->nfirst : atom->nlocal;
-
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf / rmass[i];
-    for (int a = 0; a < 3; a++) {
-      v[i][a] += dtfm * f[i][a];
-      x[i][a] += dtv * v[i][a];
-    }
-  }
 }
 
 /* ----------------------------------------------------------------------
    drift of the state: rho and tau advance a full step with the rates of
-   the half-step velocities at the mid-step positions, just as x does; the
-   force of step n+1 then sees x, rho and tau all at n+1.  (Half steps of rho and tau with the
-   rates of the surrounding full steps, as in fix sph, are unstable
-   without artificial viscosity: the amplification is 1 + (omega dt)^2/4.)
+   the half-step velocities at the mid-step positions, just as x does in
+   FixNVE::initial_integrate(); the force of step n+1 then sees x, rho and
+   tau all at n+1.  (Half steps of rho and tau with the rates of the
+   surrounding full steps, as in fix sph, are unstable without artificial
+   viscosity: the amplification is 1 + (omega dt)^2/4.)
 ------------------------------------------------------------------------- */
 
 void FixSPHCCBNVE::pre_force(int /*vflag*/)
@@ -115,24 +88,5 @@ void FixSPHCCBNVE::pre_force(int /*vflag*/)
     if (!(mask[i] & groupbit)) continue;
     rho[i] += dtv * drho[i];
     for (int c = 0; c < SPHElastic::NVOIGT; c++) tau[i][c] += dtv * dtau[i][c];
-  }
-}
-
-/* ----------------------------------------------------------------------
-   second kick: v(n+1) = v(n+1/2) + dt/2 a(n+1)
-------------------------------------------------------------------------- */
-
-void FixSPHCCBNVE::final_integrate()
-{
-  double *const *const v = atom->v;
-  const double *const *const f = atom->f;
-  const double *const rmass = atom->rmass;
-  const int *const mask = atom->mask;
-  const int nlocal = (igroup == atom->firstgroup) ? atom->nfirst : atom->nlocal;
-
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf / rmass[i];
-    for (int a = 0; a < 3; a++) v[i][a] += dtfm * f[i][a];
   }
 }

@@ -20,28 +20,25 @@ FixStyle(sph/ccb/nve,FixSPHCCBNVE);
 #ifndef LMP_FIX_SPH_CCB_NVE_H
 #define LMP_FIX_SPH_CCB_NVE_H
 
-#include "fix.h"
+#include "fix_nve.h"
 
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
-   velocity Verlet for pair style sph/ccb: x and v as fix nve; density and
-   deviatoric stress drift a full step with x, from the rates of pair
-   sph/ccb at the half-step velocities
+   velocity Verlet for pair style sph/ccb: x and v exactly as fix nve
+   (inherited); in addition density and deviatoric stress drift a full
+   step before the force, from the rates of pair sph/ccb at the half-step
+   velocities
 ------------------------------------------------------------------------- */
 
-class FixSPHCCBNVE : public Fix {
+class FixSPHCCBNVE : public FixNVE {
  public:
   FixSPHCCBNVE(class LAMMPS *, int, char **);
   int setmask() override;
   void init() override;
-  void initial_integrate(int) override;
   void pre_force(int) override;
-  void final_integrate() override;
-  void reset_dt() override;
 
  private:
-  double dtv, dtf;
   class PairSPHCCB *pair;
 };
 

@@ -378,7 +378,6 @@ double PairSPHCCB::stress_output(int i)
 
 void PairSPHCCB::force_pass(int i)
 {
-  double *const *const f = atom->f;
   const double *const *const x = atom->x;
   const double *const *const v = atom->v;
   const double *const rho = atom->rho;
@@ -428,10 +427,7 @@ void PairSPHCCB::force_pass(int i)
       }
       fpair[a] = scale * t;
     }
-    f[i][0] += fpair[0];
-    f[i][1] += fpair[1];
-    f[i][2] += fpair[2];
-    if (vflag_either) ev_tally_xyz_full(i, 0.0, 0.0, fpair[0], fpair[1], fpair[2], del[0], del[1], del[2]);
+    add_pair_force(i, fpair, del);
   }
 }
 

@@ -14,6 +14,7 @@
 #ifndef LMP_PAIR_SPH_ELASTIC_H
 #define LMP_PAIR_SPH_ELASTIC_H
 
+#include "atom.h"
 #include "pair.h"
 #include "sph_elastic_kernel.h"
 
@@ -76,6 +77,15 @@ class PairSPHElastic : public Pair {
   void check_atoms();
   void compute_stable_dt();
   void connect_partners();
+  // f_i += fij and its virial share for a pair from a full list, del = x_i - x_j
+  void add_pair_force(int i, const double *fij, const double *del)
+  {
+    double *fi = atom->f[i];
+    fi[0] += fij[0];
+    fi[1] += fij[1];
+    fi[2] += fij[2];
+    if (vflag_either) ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], del[0], del[1], del[2]);
+  }
 };
 
 }    // namespace LAMMPS_NS

@@ -277,7 +277,6 @@ double PairSPHICB::stress_pass(int i, int *jl)
 
 double PairSPHICB::hourglass_pass(int i, const int *jl)
 {
-  double *const *const f = atom->f;
   const double *const *const x = atom->x;
   const int *type = atom->type;
   const int n = partners->npartner[i];
@@ -302,12 +301,8 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) Q[3 * a + b] -= 0.5 * kij * d[a] * X[b];
     const double fd[3] = {kij * d[0], kij * d[1], kij * d[2]};
-    f[i][0] += fd[0];
-    f[i][1] += fd[1];
-    f[i][2] += fd[2];
-    if (vflag_either)
-      ev_tally_xyz_full(i, 0.0, 0.0, fd[0], fd[1], fd[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
-                        x[i][2] - x[j][2]);
+    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    add_pair_force(i, fd, del);
   }
   return energy;
 }
@@ -316,7 +311,6 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
 
 void PairSPHICB::force_pass(int i, const int *jl)
 {
-  double *const *const f = atom->f;
   const double *const *const x = atom->x;
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
@@ -331,12 +325,8 @@ void PairSPHICB::force_pass(int i, const int *jl)
     for (int a = 0; a < 3; a++)
       fij[a] = (Qi[3 * a] * gij[0] + Qi[3 * a + 1] * gij[1] + Qi[3 * a + 2] * gij[2]) -
           (Qj[3 * a] * gji[0] + Qj[3 * a + 1] * gji[1] + Qj[3 * a + 2] * gji[2]);
-    f[i][0] += fij[0];
-    f[i][1] += fij[1];
-    f[i][2] += fij[2];
-    if (vflag_either)
-      ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
-                        x[i][2] - x[j][2]);
+    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    add_pair_force(i, fij, del);
   }
 }
 
