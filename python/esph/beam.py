@@ -17,11 +17,12 @@ class BeamCase:
     route: str = "min"
     hourglass: float = 0.0
     gradient: str = "linear"      # linear (paper) or quadratic
+    clamp: str = "fixed"          # fixed columns (paper) or mirror (fix sph/mirror)
 
     def variables(self) -> dict:
         return {"Fy": self.load, "dx": self.dx, "nu": self.nu, "plane": self.plane,
                 "stress": self.stress, "route": self.route, "hg": self.hourglass,
-                "grad": self.gradient}
+                "grad": self.gradient, "clamp": self.clamp}
 
 
 @dataclass

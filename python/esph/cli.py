@@ -20,10 +20,16 @@ def _progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-def _validate_table(args, gradient: str, paper: dict) -> tuple[float, list]:
+VARIANT_LABELS = {"linear/fixed": "the paper's scheme: linear gradient correction, fixed clamp",
+                  "quadratic/fixed": "gradient exact for quadratic fields, fixed clamp",
+                  "quadratic/mirror": "gradient exact for quadratic fields, mirror clamp",
+                  "linear/mirror": "linear gradient correction, mirror clamp"}
+
+
+def _validate_table(args, variant: str, paper: dict) -> tuple[float, list]:
     loads = [float(x) for x in args.loads.split(",")]
-    label = "the paper's linear correction" if gradient == "linear" else "exact for quadratic fields"
-    print(f"\nCantilever beam, pair_style sph/icb, gradient {gradient} ({label}), "
+    gradient, clamp = variant.split("/")
+    print(f"\nCantilever beam, pair_style sph/icb, {VARIANT_LABELS[variant]}, "
           f"dx = {args.dx * 1e3:g} mm, nu = {args.nu:g}, plane {args.plane}, stress {args.stress}, "
           f"route {args.route}, hourglass {args.hourglass:g}")
     head = (f"{'Fy[N]':>7} {'dv[mm]':>9} {'exact':>9} {'paper':>8} {'err_dv':>7} {'paper':>7} | "
@@ -33,9 +39,9 @@ def _validate_table(args, gradient: str, paper: dict) -> tuple[float, list]:
     rows = []
     worst = 0.0
     for load in loads:
-        _progress(f"[esph] beam gradient {gradient}, Fy = {load:g} N ...")
+        _progress(f"[esph] beam {variant}, Fy = {load:g} N ...")
         case = BeamCase(load=load, dx=args.dx, nu=args.nu, plane=args.plane, stress=args.stress,
-                        route=args.route, hourglass=args.hourglass, gradient=gradient)
+                        route=args.route, hourglass=args.hourglass, gradient=gradient, clamp=clamp)
         res = run_beam(case, nprocs=args.np)
         ex_dh, ex_dv = res.exact
         p_dv, p_dh = paper.get(load, (float("nan"), float("nan")))
@@ -49,7 +55,7 @@ def _validate_table(args, gradient: str, paper: dict) -> tuple[float, list]:
                      "paper_dv_mm": p_dv, "paper_dh_mm": p_dh, "err_dv": res.error_dv,
                      "paper_err_dv": p_err, "err_dh": res.error_dh, "steps": res.steps,
                      "natoms": res.natoms, "wall": res.wall})
-    print(f"largest |error| in dv, gradient {gradient}: {100 * worst:.2f}%")
+    print(f"largest |error| in dv, {variant}: {100 * worst:.2f}%")
     return worst, rows
 
 
@@ -60,8 +66,12 @@ def cmd_validate(args) -> int:
           "(s = L - dx/2);\npaper = Table 1 ICB at dx = 2 mm, its error taken against the same "
           "exact value.")
     rows = []
-    for gradient in args.gradient.split(","):
-        rows += _validate_table(args, gradient, paper)[1]
+    for variant in args.variants.split(","):
+        if variant not in VARIANT_LABELS:
+            print(f"unknown variant {variant!r}: choose from {', '.join(VARIANT_LABELS)}",
+                  file=sys.stderr)
+            return 2
+        rows += _validate_table(args, variant, paper)[1]
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
     return 0
@@ -117,8 +127,9 @@ def main(argv=None) -> int:
     val.add_argument("--stress", default="pk1", choices=["corotated", "pk1"])
     val.add_argument("--route", default="min", choices=["min", "dyn"])
     val.add_argument("--hourglass", type=float, default=0.0)
-    val.add_argument("--gradient", default="linear,quadratic",
-                     help="comma-separated gradient corrections: linear (paper), quadratic")
+    val.add_argument("--variants", default="linear/fixed,quadratic/mirror",
+                     help="comma-separated gradient/clamp pairs: gradient linear (paper) or "
+                          "quadratic, clamp fixed (paper) or mirror (default: %(default)s)")
     val.add_argument("--np", type=int, default=1, help="MPI ranks (1 = in-process)")
     val.add_argument("--json", help="write the rows to this JSON file")
     val.set_defaults(func=cmd_validate)

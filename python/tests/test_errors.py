@@ -22,6 +22,8 @@ set group all mass 1e-6
 set group all mol 1
 """
 
+ICB = "pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\n"
+
 CASES = [
     ("pair_style sph/icb 0.0012 colour red", "Unknown pair_style sph/icb keyword: colour"),
     ("pair_style sph/icb -1", "smoothing length h must be > 0"),
@@ -54,6 +56,18 @@ CASES = [
      "requires pair style sph/ccb"),
     ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\n"
      "compute c all sph/elastic/atom strain\nrun 0", "strain needs a total-Lagrangian pair style"),
+    ("fix m all sph/mirror x", "Illegal fix sph/mirror command"),
+    ("fix m all sph/mirror w 0.0", "plane normal must be x, y or z, got w"),
+    ("fix m all sph/mirror z 0.0", "plane normal z is not allowed in a 2d"),
+    ("fix m all sph/mirror x zero", "Expected floating point parameter"),
+    ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\n"
+     "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
+     "fix m g sph/mirror x 0.0\nrun 0", "Fix sph/mirror requires pair_style sph/icb"),
+    (ICB + "group g empty\nfix m g sph/mirror x 0.0\nrun 0", "sph/mirror: group g has no atoms"),
+    (ICB + "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
+     "fix m g sph/mirror x 0.0005\nrun 0", "lies on the mirror plane x = 0.0005"),
+    (ICB + "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
+     "fix m g sph/mirror x 0.0\nrun 0", "at reference position (0.0005, 0.0005, 0) has no"),
 ]
 
 

@@ -58,6 +58,7 @@ PairSPHICB::PairSPHICB(LAMMPS *lmp) :
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   measure = COROTATED;
   hourglass = 0.0;
+  mirror_groupbit = 0;
   comm_what = COMM_QSTRESS;
   nmax_work = maxlocal = 0;
   comm_forward = 9;
@@ -113,6 +114,7 @@ int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
 void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
+  mirror_groupbit = 0;    // fix sph/mirror, initialised after the pair, sets it again
 
   auto fixes = modify->get_fix_by_style("^sph/rotation$");
   rotfix = fixes.empty() ? nullptr : dynamic_cast<FixSPHRotation *>(fixes.front());
@@ -217,8 +219,12 @@ double PairSPHICB::stress_pass(int i, int *jl)
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}; the run "
                "is unstable (reduce the time step or the load)", atom->tag[i], update->ntimestep);
+  // a mirror atom of fix sph/mirror follows the odd extension of its source's
+  // displacement: its F is a bookkeeping device that may even invert, and its
+  // strain energy would count the source's a second time
+  const bool mirror = atom->mask[i] & mirror_groupbit;
   // a minimizer's trial step may invert particles; its line search backs off
-  if (detF <= 0.0 && update->whichflag != 2)
+  if (detF <= 0.0 && !mirror && update->whichflag != 2)
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/icb: atom {} is inverted (det F = {}) at step {}; the load or the "
                "time step is too large for this resolution", atom->tag[i], detF, update->ntimestep);
@@ -239,6 +245,8 @@ double PairSPHICB::stress_pass(int i, int *jl)
     }
   // plane stress: the condensed lambda* already accounts for S_zz = 0
   if (domain->dimension == 2 && plane == PLANE_STRESS) S[2][2] = 0.0;
+  if (mirror)
+    for (auto &row : S) row[0] = row[1] = row[2] = 0.0;
 
   double R[3][3];
   if (rotfix) rotfix->rotation(i, F, R);
@@ -261,6 +269,7 @@ double PairSPHICB::stress_pass(int i, int *jl)
     green[i][v] = E[a][b];
   }
 
+  if (mirror) return 0.0;
   const double psi = 0.5 * lambda * trE * trE + mu * EE;
   return vi * psi;
 }

@@ -37,11 +37,14 @@ class PairSPHICB : public PairSPHElastic {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
+  // atoms of this group carry no strain energy (mirror atoms of fix sph/mirror)
+  void add_mirror_group(int groupbit) { mirror_groupbit |= groupbit; }
 
  protected:
   int measure;                   // stress measure P = R S (corotated) or F S (pk1)
   double hourglass;              // hourglass-control coefficient alpha (0 = off)
   int comm_what;                 // what forward comm carries: F or Q
+  int mirror_groupbit;           // groups whose atoms have no strain energy, set by fixes
   class FixSPHRotation *rotfix;
   double **defgrad;              // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;              // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded

@@ -1,0 +1,409 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+   Odd-mirror clamp: with u(X') = -u(X) for the mirror image X' of X,
+   the displacement field continues smoothly through the plane and is zero
+   on it, so the particles next to the clamp see a complete, exact support
+   and the clamp adds no strain energy of its own.  Holding the clamp
+   columns fixed instead counts their strain energy and makes the body
+   behave as if clamped about one particle spacing behind the plane.
+------------------------------------------------------------------------- */
+
+#include "fix_sph_mirror.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+#include "memory.h"
+#include "pair_sph_icb.h"
+#include "update.h"
+
+#include <array>
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+// reference positions match to this fraction of the smallest mirror depth
+constexpr double MATCH_TOL = 1.0e-6;
+// hash cells for matching, much larger than the tolerance
+constexpr double CELL_SIZE = 1.0e-4;
+constexpr int NPACK = 4;    // atom ID and reference position per gathered atom
+
+using CellKey = std::array<long long, 3>;
+
+CellKey cell_of(const double *X, double cell)
+{
+  return {(long long) std::floor(X[0] / cell), (long long) std::floor(X[1] / cell),
+          (long long) std::floor(X[2] / cell)};
+}
+
+// all ranks' packed (ID, X0) records, in rank order
+std::vector<double> gather_all(const std::vector<double> &mine, MPI_Comm world, int nprocs)
+{
+  int nmine = (int) mine.size();
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, world);
+  return all;
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), fsource(nullptr), nmax(0)
+{
+  if (narg != 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
+  if (strcmp(arg[3], "x") == 0)
+    axis = 0;
+  else if (strcmp(arg[3], "y") == 0)
+    axis = 1;
+  else if (strcmp(arg[3], "z") == 0)
+    axis = 2;
+  else
+    error->all(FLERR, 3, "Fix sph/mirror plane normal must be x, y or z, got {}", arg[3]);
+  if (axis == 2 && domain->dimension == 2)
+    error->all(FLERR, 3, "Fix sph/mirror plane normal z is not allowed in a 2d simulation");
+  plane = utils::numeric(FLERR, arg[4], false, lmp);
+
+  comm_forward = 3;
+  comm_reverse = 3;
+  dynamic_group_allow = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHMirror::~FixSPHMirror()
+{
+  memory->destroy(fsource);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHMirror::setmask()
+{
+  return PRE_FORCE | POST_FORCE | MIN_PRE_FORCE | MIN_POST_FORCE;
+}
+
+/* ----------------------------------------------------------------------
+   the mirrors' strain energy is left out by the pair style, which must be
+   sph/icb: a rate-based scheme has stress history the mirror cannot supply
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::init()
+{
+  if (!atom->x0_flag)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/mirror requires reference positions: use atom_style sph/elastic");
+  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/mirror requires pair_style sph/icb; to clamp a body integrated by "
+               "another pair style, hold the clamp atoms with fix setforce");
+  pair->add_mirror_group(groupbit);
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR, Error::NOLASTLINE, "Fix sph/mirror does not support run_style respa");
+}
+
+/* ----------------------------------------------------------------------
+   pair every mirror with its source by reference position (atoms may be
+   created or deleted between runs, so do it at each setup)
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::setup_pre_force(int /*vflag*/)
+{
+  pair_up();
+  place_mirrors();
+}
+
+void FixSPHMirror::setup(int vflag)
+{
+  post_force(vflag);
+}
+
+void FixSPHMirror::min_setup(int vflag)
+{
+  post_force(vflag);
+}
+
+void FixSPHMirror::pre_force(int /*vflag*/)
+{
+  place_mirrors();
+}
+
+void FixSPHMirror::min_pre_force(int /*vflag*/)
+{
+  place_mirrors();
+}
+
+void FixSPHMirror::post_force(int /*vflag*/)
+{
+  hand_over_forces();
+}
+
+void FixSPHMirror::min_post_force(int /*vflag*/)
+{
+  hand_over_forces();
+}
+
+/* ----------------------------------------------------------------------
+   every rank gathers the mirrors and the candidate sources (non-mirror atoms
+   no deeper than the deepest mirror) and matches them the same way, so the
+   mirror -> source map is identical everywhere and survives migration
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::pair_up()
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  double **x0 = atom->x0;
+
+  double depth_max = 0.0, depth_min = std::numeric_limits<double>::max();
+  bigint nmirror_mine = 0, nmirror_all;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      const double d = std::fabs(x0[i][axis] - plane);
+      depth_max = std::max(depth_max, d);
+      depth_min = std::min(depth_min, d);
+      nmirror_mine++;
+    }
+  MPI_Allreduce(&nmirror_mine, &nmirror_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (nmirror_all == 0)
+    error->all(FLERR, Error::NOLASTLINE, "Fix {} sph/mirror: group {} has no atoms", id,
+               group->names[igroup]);
+  double dmax, dmin;
+  MPI_Allreduce(&depth_max, &dmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(&depth_min, &dmin, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (dmin <= MATCH_TOL * dmax)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: an atom of group {} lies on the mirror plane {} = {} (it would "
+               "be its own mirror image); hold such atoms with fix setforce or move the plane",
+               id, group->names[igroup], "xyz"[axis], plane);
+  const double tol = MATCH_TOL * dmin, cell = CELL_SIZE * dmin;
+
+  std::vector<double> mirrors_mine, cands_mine;
+  for (int i = 0; i < nlocal; i++) {
+    const bool mirror = mask[i] & groupbit;
+    if (!mirror && std::fabs(x0[i][axis] - plane) > dmax + tol) continue;
+    auto &dest = mirror ? mirrors_mine : cands_mine;
+    dest.insert(dest.end(), {(double) tag[i], x0[i][0], x0[i][1], x0[i][2]});
+  }
+  const auto mirrors = gather_all(mirrors_mine, world, comm->nprocs);
+  const auto cands = gather_all(cands_mine, world, comm->nprocs);
+
+  std::map<CellKey, std::vector<int>> cells;
+  for (int c = 0; c < (int) cands.size() / NPACK; c++)
+    cells[cell_of(&cands[c * NPACK + 1], cell)].push_back(c);
+
+  source.clear();
+  for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
+    const auto gtag = (tagint) mirrors[g * NPACK];
+    double want[3] = {mirrors[g * NPACK + 1], mirrors[g * NPACK + 2], mirrors[g * NPACK + 3]};
+    want[axis] = 2.0 * plane - want[axis];
+    const CellKey centre = cell_of(want, cell);
+    tagint found = -1;
+    // the source may sit in a neighbouring hash cell after round-off
+    for (int a = -1; a <= 1 && found < 0; a++)
+      for (int b = -1; b <= 1 && found < 0; b++)
+        for (int e = -1; e <= 1 && found < 0; e++) {
+          auto it = cells.find({centre[0] + a, centre[1] + b, centre[2] + e});
+          if (it == cells.end()) continue;
+          for (int c : it->second) {
+            const double *X = &cands[c * NPACK + 1];
+            const double d2 = (X[0] - want[0]) * (X[0] - want[0]) +
+                (X[1] - want[1]) * (X[1] - want[1]) + (X[2] - want[2]) * (X[2] - want[2]);
+            if (d2 <= tol * tol) found = (tagint) cands[c * NPACK];
+          }
+        }
+    if (found < 0)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
+                 "no source at ({}, {}, {}); the group must be the mirror image of the body's "
+                 "first layers across {} = {}",
+                 id, gtag, group->names[igroup], mirrors[g * NPACK + 1], mirrors[g * NPACK + 2],
+                 mirrors[g * NPACK + 3], want[0], want[1], want[2], "xyz"[axis], plane);
+    source[gtag] = found;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   local index (owned or ghost copy) of the source of owned mirror atom i
+------------------------------------------------------------------------- */
+
+int FixSPHMirror::local_source(int i)
+{
+  const tagint itag = atom->tag[i];
+  const auto it = source.find(itag);
+  if (it == source.end())
+    error->one(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: atom {} joined group {} after setup; start a new run", id, itag,
+               group->names[igroup]);
+  const int j = atom->map(it->second);
+  if (j < 0)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: source atom {} of atom {} is beyond the ghost cut-off at step "
+               "{}; set 'comm_modify cutoff <d>' with d at least twice the clamp depth plus the "
+               "largest displacement and the neighbor skin",
+               id, it->second, itag, update->ntimestep);
+  return domain->closest_image(i, j);
+}
+
+/* ----------------------------------------------------------------------
+   x_mirror = X_mirror - u_source, kept next to the mirror's current periodic
+   copy; then the new positions are sent to the ghost copies of the mirrors
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::place_mirrors()
+{
+  double **x = atom->x;
+  double **x0 = atom->x0;
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const int j = local_source(i);
+    double u[3] = {x[j][0] - x0[j][0], x[j][1] - x0[j][1], x[j][2] - x0[j][2]};
+    domain->minimum_image(u);
+    double shift[3] = {x0[i][0] - u[0] - x[i][0], x0[i][1] - u[1] - x[i][1],
+                       x0[i][2] - u[2] - x[i][2]};
+    domain->minimum_image(shift);
+    for (int a = 0; a < 3; a++) {
+      x[i][a] += shift[a];
+      v[i][a] = 0.0;
+    }
+  }
+  comm->forward_comm(this);
+}
+
+/* ----------------------------------------------------------------------
+   the mirror moves by minus its source's displacement, so the force on the
+   mirror acts on the source with the opposite sign; the mirror keeps none
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::hand_over_forces()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(fsource);
+    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
+  }
+  if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+
+  double **f = atom->f;
+  double **v = atom->v;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const int j = local_source(i);
+    for (int a = 0; a < 3; a++) {
+      fsource[j][a] -= f[i][a];
+      f[i][a] = 0.0;
+      v[i][a] = 0.0;
+    }
+  }
+  comm->reverse_comm(this);
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < 3; a++) f[i][a] += fsource[i][a];
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHMirror::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
+{
+  double **x = atom->x;
+  double shift[3] = {0.0, 0.0, 0.0};
+  if (pbc_flag) {
+    if (domain->triclinic) {
+      shift[0] = pbc[0] * domain->xprd + pbc[5] * domain->xy + pbc[4] * domain->xz;
+      shift[1] = pbc[1] * domain->yprd + pbc[3] * domain->yz;
+    } else {
+      shift[0] = pbc[0] * domain->xprd;
+      shift[1] = pbc[1] * domain->yprd;
+    }
+    shift[2] = pbc[2] * domain->zprd;
+  }
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list[k];
+    buf[m++] = x[j][0] + shift[0];
+    buf[m++] = x[j][1] + shift[1];
+    buf[m++] = x[j][2] + shift[2];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHMirror::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **x = atom->x;
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    x[i][0] = buf[m++];
+    x[i][1] = buf[m++];
+    x[i][2] = buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHMirror::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    buf[m++] = fsource[i][0];
+    buf[m++] = fsource[i][1];
+    buf[m++] = fsource[i][2];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHMirror::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list[k];
+    fsource[j][0] += buf[m++];
+    fsource[j][1] += buf[m++];
+    fsource[j][2] += buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixSPHMirror::memory_usage()
+{
+  return (double) nmax * 3 * sizeof(double) +
+      (double) source.size() * (2 * sizeof(tagint) + 4 * sizeof(void *));
+}

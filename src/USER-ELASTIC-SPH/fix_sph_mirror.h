@@ -1,0 +1,73 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sph/mirror,FixSPHMirror);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_MIRROR_H
+#define LMP_FIX_SPH_MIRROR_H
+
+#include "fix.h"
+
+#include <map>
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   odd-mirror clamp for pair sph/icb: each atom of the group (a mirror
+   atom) follows the body atom at its mirrored reference position (its
+   source) with minus that atom's displacement, so the displacement
+   vanishes on the plane.  Mirror atoms carry no strain energy; the forces
+   on them are handed to their sources (chain rule of the constraint),
+   their own f and v are zero.
+------------------------------------------------------------------------- */
+
+class FixSPHMirror : public Fix {
+ public:
+  FixSPHMirror(class LAMMPS *, int, char **);
+  ~FixSPHMirror() override;
+  int setmask() override;
+  void init() override;
+  void setup_pre_force(int) override;
+  void setup(int) override;
+  void min_setup(int) override;
+  void pre_force(int) override;
+  void min_pre_force(int) override;
+  void post_force(int) override;
+  void min_post_force(int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  double memory_usage() override;
+
+ private:
+  int axis;                        // normal of the mirror plane: 0, 1, 2 = x, y, z
+  double plane;                    // its position (reference coordinates)
+  std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
+  double **fsource;                   // forces handed to sources, owned + ghost atoms
+  int nmax;
+
+  void pair_up();
+  int local_source(int i);
+  void place_mirrors();
+  void hand_over_forces();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
