@@ -41,9 +41,10 @@ def _var_args(variables: dict) -> list[str]:
 
 
 def run_script(script: Path, variables: dict, read: list[str], log: Path | None = None,
-               commands_after: list[str] | None = None) -> RunResult:
+               commands_after: list[str] | None = None, inspect=None) -> RunResult:
     """Run `script` in-process with the lammps module and return the values of
-    the equal-style variables in `read` at the end."""
+    the equal-style variables in `read` at the end; `inspect(lmp)`, if given,
+    is called before the instance closes (per-atom data, say)."""
     from lammps import lammps
 
     args = ["-screen", "none", "-log", str(log) if log else "none", "-nocite"]
@@ -59,6 +60,8 @@ def run_script(script: Path, variables: dict, read: list[str], log: Path | None 
         out.variables = {name: lmp.extract_variable(name) for name in read}
         out.steps = int(lmp.get_thermo("step"))
         out.natoms = int(lmp.get_natoms())
+        if inspect:
+            inspect(lmp)
     finally:
         lmp.close()
     return out
@@ -90,3 +93,4 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
 
 
 BEAM = EXAMPLES / "beam" / "in.beam"
+RINGS = EXAMPLES / "rings" / "in.rings"

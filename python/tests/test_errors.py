@@ -68,6 +68,20 @@ CASES = [
      "fix m g sph/mirror x 0.0005\nrun 0", "lies on the mirror plane x = 0.0005"),
     (ICB + "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
      "fix m g sph/mirror x 0.0\nrun 0", "at reference position (0.0005, 0.0005, 0) has no"),
+    ("fix c all sph/contact", "Illegal fix sph/contact command"),
+    ("fix c all sph/contact -0.001", "contact distance dx must be > 0"),
+    ("fix c all sph/contact 0.001 thickness 0", "thickness must be > 0"),
+    ("fix c all sph/contact 0.001 damping -1", "damping ratio must be >= 0"),
+    ("fix c all sph/contact 0.001 bogus 1", "Unknown fix sph/contact keyword: bogus"),
+    ("fix c all sph/contact 0.001 thickness 0.001\nrun 0", "takes the bulk moduli of pair_style"),
+    (ICB + "fix c all sph/contact 0.001\nrun 0", "in 2d needs the thickness"),
+    (ICB + "fix c all sph/contact 0.001 thickness 0.001 damping 0.5\nrun 0",
+     "damping needs the velocities of ghost atoms"),
+    (ICB + "region r block 3 6 INF INF INF INF units lattice\nset region r mol 2\n"
+     "fix c all sph/contact 0.01 thickness 0.001\nrun 0", "plus the neighbor skin exceeds the ghost"),
+    ("reset_sph_reference", "expected a group ID"),
+    ("reset_sph_reference nogroup", "Could not find reset_sph_reference group ID nogroup"),
+    (ICB + "run 0\nreset_sph_reference all", "the reference partners were already built"),
 ]
 
 
@@ -89,6 +103,15 @@ def test_wrong_atom_style():
                         "pair_style sph/icb 1.0\npair_coeff * * 1e9 0.3")
     with pytest.raises(Exception, match="requires atom_style sph/elastic"):
         lmp.command("run 0")
+    lmp.close()
+
+
+def test_contact_thickness_keyword_in_3d():
+    lmp = make_lammps()
+    lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
+                        "region box block 0 4 0 4 0 4\ncreate_box 1 box")
+    with pytest.raises(Exception, match="keyword thickness is only valid in 2d"):
+        lmp.command("fix c all sph/contact 1.0 thickness 0.1")
     lmp.close()
 
 
