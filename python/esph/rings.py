@@ -1,0 +1,173 @@
+"""Colliding rings (paper section 3.3) through examples/rings/in.rings: run,
+read the time series the script writes, and reduce it to the numbers of a
+collision (rebound speed, contact duration, energy balance, failure)."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .runner import RINGS, run_mpi, run_script
+
+# columns of rings_<tag>.dat (fix ave/time in in.rings)
+COLUMNS = ["step", "v1", "v2", "estrain", "econtact", "etotal", "px", "py", "fcontact",
+           "ncontact", "overlap", "symx", "symy", "failed"]
+
+
+@dataclass
+class RingsCase:
+    scheme: str = "icb"           # icb, ccb, ccbwat
+    v: float = 5.0                # speed of each ring, m/s
+    dx: float = 0.002             # m
+    tend: float = 0.004           # s
+    stress: str = "corotated"     # icb stress measure
+    damping: float = 0.0          # contact damping ratio
+    every: int = 50               # steps between time-series rows
+    snap: float = 0.0             # s between particle snapshots (0 = none)
+
+    @property
+    def tag(self) -> str:
+        return f"{self.scheme}_{self.v:g}_{self.dx * 1e3:g}mm"
+
+    def variables(self, outdir: Path) -> dict:
+        return {"scheme": self.scheme, "v": self.v, "dx": self.dx, "tend": self.tend,
+                "stress": self.stress, "damping": self.damping, "every": self.every,
+                "snap": self.snap, "outdir": str(outdir), "tag": self.tag}
+
+
+@dataclass
+class RingsResult:
+    case: RingsCase
+    atoms: int
+    steps: int
+    wall: float
+    rebound_speed: float          # mean |vx| of the two rings at the end, m/s
+    restitution: float            # rebound speed / initial speed
+    contact_start: float          # s (nan without contact)
+    contact_end: float            # s, last time in contact (nan if still in contact)
+    max_contact_force: float      # N, sum of pair force magnitudes
+    max_overlap: float            # (dx - d)/dx
+    max_strain_share: float       # largest strain energy / initial kinetic energy
+    energy_error: float           # max |E - E0| / E0 over the run
+    momentum_error: float         # max |p| / (sum m |v0|)
+    centroid_asymmetry: float     # max |x1 + x2|, |y1 - y2| of the ring centroids / dx
+    t_fail: float                 # s, first failure (nan = intact)
+    series_file: str
+
+    @property
+    def contact_duration(self) -> float:
+        return self.contact_end - self.contact_start
+
+    def row(self) -> dict:
+        out = {k: v for k, v in asdict(self).items() if k != "case"}
+        out.update(asdict(self.case))
+        out["contact_duration"] = self.contact_duration
+        return out
+
+
+def load_series(path: Path) -> dict:
+    data = np.atleast_2d(np.loadtxt(path))
+    return {name: data[:, k] for k, name in enumerate(COLUMNS)}
+
+
+def summarise(case: RingsCase, series: dict, dt: float, atoms: int, steps: int, wall: float,
+              series_file: Path) -> RingsResult:
+    t = series["step"] * dt
+    e0 = series["etotal"][0]
+    touching = series["ncontact"] > 0
+    start = t[touching][0] if touching.any() else float("nan")
+    end = t[touching][-1] if touching.any() and not touching[-1] else float("nan")
+    failed = series["failed"] > 0.5
+    rebound = 0.5 * (abs(series["v1"][-1]) + abs(series["v2"][-1]))
+    mass_speed = 2.0 * e0 / case.v
+    return RingsResult(
+        case=case, atoms=atoms, steps=steps, wall=wall, rebound_speed=rebound,
+        restitution=rebound / case.v, contact_start=start, contact_end=end,
+        max_contact_force=float(series["fcontact"].max()),
+        max_overlap=float(series["overlap"].max()),
+        max_strain_share=float(series["estrain"].max() / e0),
+        energy_error=float(np.abs(series["etotal"] - e0).max() / e0),
+        momentum_error=float(np.abs(series["px"]).max() / mass_speed),
+        centroid_asymmetry=float(max(np.abs(series["symx"]).max(),
+                                     np.abs(series["symy"]).max()) / case.dx),
+        t_fail=float(t[failed][0]) if failed.any() else float("nan"),
+        series_file=str(series_file))
+
+
+def run_rings(case: RingsCase, outdir: Path, nprocs: int = 1) -> RingsResult:
+    """Run one collision (in-process on 1 rank, else mpirun) and summarise it."""
+    outdir = Path(outdir).resolve()
+    outdir.mkdir(parents=True, exist_ok=True)
+    variables = case.variables(outdir)
+    if nprocs == 1:
+        info = {}
+        out = run_script(RINGS, variables, read=["v1"],
+                         inspect=lambda lmp: info.update(dt=lmp.extract_global("dt")))
+        dt, steps, atoms = info["dt"], out.steps, out.natoms
+    else:
+        out = run_mpi(RINGS, variables, nprocs)
+        steps, atoms = int(out.variables["steps"]), int(out.variables["atoms"])
+        dt = out.variables["time"] / steps
+    series_file = outdir / f"rings_{case.tag}.dat"
+    return summarise(case, load_series(series_file), dt, atoms, steps, out.wall, series_file)
+
+
+def read_dump(path: Path) -> tuple[float, np.ndarray]:
+    """(time, rows of id mol x y vonmises) of one snapshot of in.rings."""
+    lines = Path(path).read_text().splitlines()
+    time = float(lines[lines.index("ITEM: TIME") + 1])
+    start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS")) + 1
+    return time, np.array([[float(v) for v in line.split()] for line in lines[start:]])
+
+
+def plot_snapshots(dumps: list[Path], png: Path, title: str) -> None:
+    """Particles coloured by von Mises stress, one panel per snapshot."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    frames = sorted((read_dump(p) for p in dumps), key=lambda f: f[0])
+    if not frames:
+        return
+    vmax = max(f[1][:, 4].max() for f in frames) or 1.0
+    ncols = min(3, len(frames))
+    nrows = -(-len(frames) // ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 2.1 * nrows + 0.6),
+                             squeeze=False)
+    for ax in axes.flat[len(frames):]:
+        ax.set_visible(False)
+    for ax, (time, rows) in zip(axes.flat, frames):
+        sc = ax.scatter(rows[:, 2], rows[:, 3], c=rows[:, 4] / 1e6, s=1.0, cmap="jet",
+                        vmin=0.0, vmax=vmax / 1e6)
+        ax.set_aspect("equal")
+        ax.set_title(f"t = {time * 1e3:.2f} ms", fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.colorbar(sc, ax=axes.ravel().tolist(), label="von Mises stress [MPa]", shrink=0.8)
+    fig.suptitle(title, fontsize=10)
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+
+
+def plot_energies(result: RingsResult, png: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = load_series(Path(result.series_file))
+    dt = result.case.tend / max(result.steps, 1)
+    t = s["step"] * dt * 1e3
+    ke = s["etotal"] - s["estrain"] - s["econtact"]
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    for y, label in [(ke, "kinetic"), (s["estrain"], "strain"), (s["econtact"], "contact"),
+                     (s["etotal"], "total")]:
+        ax.plot(t, y, label=label)
+    ax.set_xlabel("t [ms]")
+    ax.set_ylabel("energy [J]")
+    ax.set_title(f"rings, {result.case.scheme}, {result.case.v:g} m/s, dx = "
+                 f"{result.case.dx * 1e3:g} mm")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
