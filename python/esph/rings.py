@@ -54,6 +54,7 @@ class RingsResult:
     centroid_asymmetry: float     # max |x1 + x2|, |y1 - y2| of the ring centroids / dx
     t_fail: float                 # s, first failure (nan = intact)
     series_file: str
+    mirror_error: float = float("nan")   # particle mirror error / dx, largest over snapshots
 
     @property
     def contact_duration(self) -> float:
@@ -110,7 +111,23 @@ def run_rings(case: RingsCase, outdir: Path, nprocs: int = 1) -> RingsResult:
         steps, atoms = int(out.variables["steps"]), int(out.variables["atoms"])
         dt = out.variables["time"] / steps
     series_file = outdir / f"rings_{case.tag}.dat"
-    return summarise(case, load_series(series_file), dt, atoms, steps, out.wall, series_file)
+    res = summarise(case, load_series(series_file), dt, atoms, steps, out.wall, series_file)
+    dumps = sorted(outdir.glob(f"rings_{case.tag}.*.dump"))
+    if dumps:
+        res.mirror_error = max(mirror_error(read_dump(p)[1]) for p in dumps) / case.dx
+    return res
+
+
+def mirror_error(rows: np.ndarray) -> float:
+    """Largest distance between a particle of ring 1 and the mirror image
+    (x -> -x) of the nearest particle of ring 2; rows are id mol x y ..."""
+    a = rows[rows[:, 1] == 1][:, 2:4]
+    b = rows[rows[:, 1] == 2][:, 2:4] * [-1.0, 1.0]
+    worst = 0.0
+    for chunk in np.array_split(a, max(1, len(a) // 500)):
+        d2 = ((chunk[:, None, :] - b[None, :, :]) ** 2).sum(axis=2)
+        worst = max(worst, float(np.sqrt(d2.min(axis=1)).max()))
+    return worst
 
 
 def read_dump(path: Path) -> tuple[float, np.ndarray]:

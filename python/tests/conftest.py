@@ -39,6 +39,14 @@ def positions(lmp):
     return np.array(lmp.numpy.extract_atom("x")[:n], dtype=float)
 
 
+def by_id(lmp, name):
+    """Per-atom array of owned atoms in atom-ID order (LAMMPS may sort atoms
+    between runs, and a restarted run has its own order)."""
+    n = lmp.get_natoms()
+    order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+    return np.array(lmp.numpy.extract_atom(name)[:n])[order]
+
+
 def per_atom(lmp, name, cols=None):
     n = lmp.get_natoms()
     arr = lmp.numpy.extract_compute(name, 1, 2 if cols else 1)

@@ -8,7 +8,7 @@ import pytest
 from esph import theory
 from esph.beam import BeamCase, run_beam
 from esph.runner import BEAM, run_mpi
-from conftest import block, make_lammps
+from conftest import block, by_id, make_lammps
 
 
 def test_theory_reference_values():
@@ -87,9 +87,7 @@ def test_restart_continuation_equals_uninterrupted(tmp_path, dim, gradient):
     lmp.command("run 200")
     lmp.command(f"write_restart {rst}")
     lmp.command("run 200")
-    n = lmp.get_natoms()
-    ids = np.array(lmp.numpy.extract_atom("id")[:n])
-    uninterrupted = np.array(lmp.numpy.extract_atom("x")[:n])[np.argsort(ids)]
+    uninterrupted = by_id(lmp, "x")
     lmp.close()
 
     lmp = make_lammps()
@@ -99,7 +97,6 @@ def test_restart_continuation_equals_uninterrupted(tmp_path, dim, gradient):
         fix nve all nve
         run 200
     """)
-    ids = np.array(lmp.numpy.extract_atom("id")[:n])
-    continued = np.array(lmp.numpy.extract_atom("x")[:n])[np.argsort(ids)]
+    continued = by_id(lmp, "x")
     lmp.close()
     assert np.abs(continued - uninterrupted).max() == 0.0

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps
+from conftest import by_id, make_lammps
 from esph.runner import RINGS, run_mpi, run_script
 
 DX = 1.0e-3
@@ -99,13 +99,6 @@ def contact_forces(lmp, fix_line):
     lmp.command(fix_line)
     lmp.command("fix_modify contact energy yes")
     return with_fix - without, energy, pairs
-
-
-def by_id(lmp, name):
-    """Per-atom array in atom-ID order (LAMMPS may sort atoms between runs)."""
-    n = lmp.get_natoms()
-    order = np.argsort(lmp.numpy.extract_atom("id")[:n])
-    return np.array(lmp.numpy.extract_atom(name)[:n])[order]
 
 
 def atoms(lmp):
@@ -317,6 +310,7 @@ def test_rings_driver_reports_the_collision(tmp_path):
     assert res.momentum_error < 1e-12
     assert res.energy_error < 1e-3      # corotated measure: not exactly conservative
     assert res.t_fail != res.t_fail     # nan: ICB stays intact
+    assert res.mirror_error < 1e-9      # particle-level mirror symmetry kept
     rings.plot_energies(res, tmp_path / "e.png")
     rings.plot_snapshots(sorted(tmp_path.glob("rings_*.dump")), tmp_path / "s.png", "test")
     assert (tmp_path / "e.png").stat().st_size > 1000

@@ -106,21 +106,16 @@ def test_wrong_atom_style():
     lmp.close()
 
 
-def test_contact_thickness_keyword_in_3d():
+@pytest.mark.parametrize("command,message", [
+    ("pair_style sph/icb 1.0 plane stress", "plane and thickness are only valid for 2d"),
+    ("fix c all sph/contact 1.0 thickness 0.1", "keyword thickness is only valid in 2d"),
+])
+def test_2d_only_keyword_in_3d(command, message):
     lmp = make_lammps()
     lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
                         "region box block 0 4 0 4 0 4\ncreate_box 1 box")
-    with pytest.raises(Exception, match="keyword thickness is only valid in 2d"):
-        lmp.command("fix c all sph/contact 1.0 thickness 0.1")
-    lmp.close()
-
-
-def test_plane_keyword_in_3d():
-    lmp = make_lammps()
-    lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
-                        "region box block 0 4 0 4 0 4\ncreate_box 1 box")
-    with pytest.raises(Exception, match="plane and thickness are only valid for 2d"):
-        lmp.command("pair_style sph/icb 1.0 plane stress")
+    with pytest.raises(Exception, match=message):
+        lmp.command(command)
     lmp.close()
 
 
@@ -152,6 +147,17 @@ Atoms # sph/elastic
 3 1 1 1e-9 1e-6 0.0025 0.0005 0 0.0025 0.0005 0
 4 1 1 1e-9 1e-6 0.0035 0.0005 0 0.0035 0.0005 0
 """
+
+
+def test_contact_without_molecule_ids():
+    lmp = make_lammps()
+    lmp.commands_string("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
+                        "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
+                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n"
+                        "fix c all sph/contact 1.0 thickness 0.1")
+    with pytest.raises(Exception, match="requires molecule IDs to tell bodies apart"):
+        lmp.command("run 0")
+    lmp.close()
 
 
 def test_non_positive_volume_in_data_file(tmp_path):

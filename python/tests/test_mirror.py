@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps
+from conftest import by_id, make_lammps
 from esph.beam import BeamCase, run_beam
 from esph.runner import run_mpi
 
@@ -202,9 +202,7 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
     lmp = make_lammps()
     lmp.commands_string(mirror_bar_commands(pair="stress corotated gradient quadratic"))
     lmp.commands_string(dynamics + "run 300\n" + f"write_restart {rst}\nrun 300")
-    n = lmp.get_natoms()
-    ids = np.array(lmp.numpy.extract_atom("id")[:n])
-    uninterrupted = np.array(lmp.numpy.extract_atom("x")[:n])[np.argsort(ids)]
+    uninterrupted = by_id(lmp, "x")
     lmp.close()
 
     lmp = make_lammps()
@@ -213,8 +211,7 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
         fix rot all sph/rotation
         fix clamp mirror sph/mirror x 0.0
     """ + dynamics + "run 300")
-    ids = np.array(lmp.numpy.extract_atom("id")[:n])
-    continued = np.array(lmp.numpy.extract_atom("x")[:n])[np.argsort(ids)]
+    continued = by_id(lmp, "x")
     lmp.close()
     assert np.abs(uninterrupted[:, 1] - uninterrupted[0, 1]).max() > 1e-7   # it bent
     assert np.abs(continued - uninterrupted).max() == 0.0
