@@ -4,7 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from . import theory
-from .runner import BEAM, run_mpi, run_script
+from .runner import BEAM, run_tip
 
 
 @dataclass
@@ -50,12 +50,5 @@ class BeamResult:
 
 
 def run_beam(case: BeamCase, nprocs: int = 1) -> BeamResult:
-    if nprocs == 1:
-        out = run_script(BEAM, case.variables(), read=["tip_dh", "tip_dv"])
-        dh, dv = out.variables["tip_dh"], out.variables["tip_dv"]
-        steps, natoms = out.steps, out.natoms
-    else:
-        out = run_mpi(BEAM, case.variables(), nprocs)
-        dh, dv = out.variables["tip_dh"], out.variables["tip_dv"]
-        steps, natoms = int(out.variables["steps"]), int(out.variables["atoms"])
-    return BeamResult(case, dh, dv, steps, natoms, out.wall)
+    tip = run_tip(BEAM, case.variables(), nprocs)
+    return BeamResult(case, tip.dh, tip.dv, tip.steps, tip.natoms, tip.wall)

@@ -20,60 +20,35 @@ def _progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
-VARIANT_LABELS = {"linear/fixed": "the paper's scheme: linear gradient correction, fixed clamp",
-                  "quadratic/fixed": "gradient exact for quadratic fields, fixed clamp",
-                  "quadratic/mirror": "gradient exact for quadratic fields, mirror clamp",
-                  "linear/mirror": "linear gradient correction, mirror clamp"}
-
-
-def _validate_table(args, variant: str, paper: dict) -> tuple[float, list]:
-    loads = [float(x) for x in args.loads.split(",")]
-    gradient, clamp = variant.split("/")
-    print(f"\nCantilever beam, pair_style sph/icb, {VARIANT_LABELS[variant]}, "
-          f"dx = {args.dx * 1e3:g} mm, nu = {args.nu:g}, plane {args.plane}, stress {args.stress}, "
-          f"route {args.route}, hourglass {args.hourglass:g}")
-    head = (f"{'Fy[N]':>7} {'dv[mm]':>9} {'exact':>9} {'paper':>8} {'err_dv':>7} {'paper':>7} | "
-            f"{'dh[mm]':>8} {'exact':>8} {'paper':>7} {'err_dh':>7} | {'steps':>6} {'wall[s]':>7}")
-    print(head)
-    print("-" * len(head))
-    rows = []
-    worst = 0.0
-    for load in loads:
-        _progress(f"[esph] beam {variant}, Fy = {load:g} N ...")
-        case = BeamCase(load=load, dx=args.dx, nu=args.nu, plane=args.plane, stress=args.stress,
-                        route=args.route, hourglass=args.hourglass, gradient=gradient, clamp=clamp)
-        res = run_beam(case, nprocs=args.np)
-        ex_dh, ex_dv = res.exact
-        p_dv, p_dh = paper.get(load, (float("nan"), float("nan")))
-        p_err = p_dv * 1e-3 / ex_dv - 1.0
-        worst = max(worst, abs(res.error_dv))
-        print(f"{load:7.0f} {res.dv * 1e3:9.4f} {ex_dv * 1e3:9.4f} {p_dv:8.2f} "
-              f"{100 * res.error_dv:6.2f}% {100 * p_err:6.2f}% | {res.dh * 1e3:8.4f} "
-              f"{ex_dh * 1e3:8.4f} {p_dh:7.3f} {100 * res.error_dh:6.2f}% | {res.steps:6d} "
-              f"{res.wall:7.2f}", flush=True)
-        rows.append({**asdict(case), "dv": res.dv, "dh": res.dh, "exact_dv": ex_dv, "exact_dh": ex_dh,
-                     "paper_dv_mm": p_dv, "paper_dh_mm": p_dh, "err_dv": res.error_dv,
-                     "paper_err_dv": p_err, "err_dh": res.error_dh, "steps": res.steps,
-                     "natoms": res.natoms, "wall": res.wall})
-    print(f"largest |error| in dv, {variant}: {100 * worst:.2f}%")
-    return worst, rows
-
-
 def cmd_validate(args) -> int:
-    paper = dict(zip(theory.PAPER_BEAM_LOADS, zip(theory.PAPER_BEAM["ICB"]["dv"],
-                                                    theory.PAPER_BEAM["ICB"]["dh"])))
-    print("Tip = centroid of the last column; exact = elastica at the same material point "
-          "(s = L - dx/2);\npaper = Table 1 ICB at dx = 2 mm, its error taken against the same "
-          "exact value.")
-    rows = []
+    """The paper's Tables 1-4 for ICB (quick or --full), plus the CCB/CCBWAT
+    failure matrix in full mode."""
+    from . import validate
     for variant in args.variants.split(","):
-        if variant not in VARIANT_LABELS:
-            print(f"unknown variant {variant!r}: choose from {', '.join(VARIANT_LABELS)}",
+        if variant not in validate.VARIANT_LABELS:
+            print(f"unknown variant {variant!r}: choose from {', '.join(validate.VARIANT_LABELS)}",
                   file=sys.stderr)
             return 2
-        rows += _validate_table(args, variant, paper)[1]
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"{'Full' if args.full else 'Quick'} validation of pair_style sph/icb against the exact "
+          f"theory and Tran-Duc et al. (2023), {args.np} MPI rank(s); tip = centroid of the last "
+          f"column, compared at the same material point.  Output in {out}.")
+    run = validate.Runner(nprocs=args.np, stress=args.stress, route=args.route,
+                          hourglass=args.hourglass, progress=_progress)
+    loads = [float(x) for x in args.loads.split(",")]
+    rows = validate.run_all(run, args.variants.split(","), args.full, args.tables, args.dx, loads)
+    data = validate.rows_as_dicts(rows)
+    if args.full and "m" in args.tables:
+        from . import matrix
+        data += [asdict(r) for r in matrix.beam_table(args.dx, args.np, 10.0, progress=_progress)]
+        data += [asdict(r) for r in matrix.truss_table(args.dx, args.np, 10.0, progress=_progress)]
+    (out / "validate.json").write_text(json.dumps(data, indent=1))
     if args.json:
-        Path(args.json).write_text(json.dumps(rows, indent=1))
+        Path(args.json).write_text(json.dumps(data, indent=1))
+    if any(r.table in "24" for r in rows):
+        validate.plot_convergence(rows, out / "convergence.png")
+        print(f"\nconvergence plot: {out / 'convergence.png'}")
     return 0
 
 
@@ -159,12 +134,17 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="esph", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
 
-    val = sub.add_parser("validate", help="beam validation table against the exact elastica")
-    val.add_argument("--dx", type=float, default=0.002, help="particle spacing in m (0.002)")
+    val = sub.add_parser("validate", help="the paper's Tables 1-4 for ICB against exact theory")
+    val.add_argument("--full", action="store_true",
+                     help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
+                          "(hours); default: quick (minutes)")
+    val.add_argument("--tables", default="1234m",
+                     help="which tables: 1 2 3 4 (ICB), m (failure matrix, with --full)")
+    val.add_argument("--dx", type=float, default=0.002,
+                     help="particle spacing of Tables 1 and 3 in m (0.002)")
     val.add_argument("--loads", default=",".join(f"{x:g}" for x in theory.PAPER_BEAM_LOADS),
-                     help="comma-separated tip loads in N")
-    val.add_argument("--nu", type=float, default=0.0)
-    val.add_argument("--plane", default="stress", choices=["stress", "strain"])
+                     help="comma-separated beam loads of Table 1 in N")
+    val.add_argument("--out", default="validate-out", help="folder for JSON and PNG output")
     # pk1 is the exact gradient of the strain energy, which the CG minimiser needs;
     # corotated (the paper's measure) reaches equilibrium through --route dyn
     val.add_argument("--stress", default="pk1", choices=["corotated", "pk1"])

@@ -7,13 +7,10 @@ import re
 from dataclasses import dataclass
 
 from . import theory
-from .paths import EXAMPLES
-from .runner import run_mpi
+from .runner import BEAM, TRUSS, run_mpi
 
 SCHEMES = ("ccb", "ccbwat", "icb")
 PAPER_NAME = {"ccb": "CCB", "ccbwat": "CCBWAT", "icb": "ICB"}
-BEAM_SCRIPT = EXAMPLES / "beam" / "in.beam"
-TRUSS_SCRIPT = EXAMPLES / "truss" / "in.truss"
 _ERROR_RE = re.compile(r"^ERROR.*$", re.M)
 
 
@@ -72,7 +69,7 @@ def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOA
         cells = []
         for scheme in SCHEMES:
             progress(f"[esph] beam {scheme} Fy = {load:g} N ...")
-            o = run_case(BEAM_SCRIPT, scheme, {"Fy": load, "dx": dx, "tdamp": tdamp}, nprocs)
+            o = run_case(BEAM, scheme, {"Fy": load, "dx": dx, "tdamp": tdamp}, nprocs)
             rows.append(o)
             paper = theory.PAPER_BEAM[PAPER_NAME[scheme]]["dv"][k]
             paper_txt = f"{paper:7.2f}" if paper is not None else f"{'broken':>7}"
@@ -103,7 +100,7 @@ def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_L
         cells = []
         for scheme in SCHEMES:
             progress(f"[esph] truss {scheme} Fx = {load:g} N ...")
-            o = run_case(TRUSS_SCRIPT, scheme, {"Fx": load, "dx": dx, "tdamp": tdamp}, nprocs)
+            o = run_case(TRUSS, scheme, {"Fx": load, "dx": dx, "tdamp": tdamp}, nprocs)
             rows.append(o)
             exact = truss.displacement(load, model[scheme], X)
             paper = theory.PAPER_TRUSS[PAPER_NAME[scheme]][k]

@@ -92,5 +92,27 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
     return out
 
 
+@dataclass
+class TipResult:
+    dh: float
+    dv: float
+    steps: int
+    natoms: int
+    wall: float
+
+
+def run_tip(script: Path, variables: dict, nprocs: int = 1) -> TipResult:
+    """Run a beam or truss script (in-process on 1 rank, else mpirun) and
+    return the displacement of the tip column's centroid."""
+    if nprocs == 1:
+        out = run_script(script, variables, read=["tip_dh", "tip_dv"])
+        steps, natoms = out.steps, out.natoms
+    else:
+        out = run_mpi(script, variables, nprocs)
+        steps, natoms = int(out.variables["steps"]), int(out.variables["atoms"])
+    return TipResult(out.variables["tip_dh"], out.variables["tip_dv"], steps, natoms, out.wall)
+
+
 BEAM = EXAMPLES / "beam" / "in.beam"
+TRUSS = EXAMPLES / "truss" / "in.truss"
 RINGS = EXAMPLES / "rings" / "in.rings"

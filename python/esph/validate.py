@@ -1,0 +1,253 @@
+"""The paper's validation, Tables 1-4, for pair_style sph/icb: our tip
+displacements beside the paper's and the exact answer of the model we run,
+with errors, steps and wall time, and the convergence in dx with its
+observed order.  Quick mode takes minutes; full mode goes down to 0.5 mm
+and adds the CCB/CCBWAT failure matrix (esph.matrix)."""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from . import theory
+from .runner import BEAM, TRUSS, TipResult, run_tip
+
+VARIANT_LABELS = {"linear/fixed": "the paper's scheme: linear gradient correction, fixed clamp",
+                  "quadratic/fixed": "gradient exact for quadratic fields, fixed clamp",
+                  "quadratic/mirror": "gradient exact for quadratic fields, mirror clamp",
+                  "linear/mirror": "linear gradient correction, mirror clamp"}
+
+QUICK = {"beam_conv_loads": (-250.0,), "beam_conv_dx": (0.005, 0.004, 0.002),
+         "truss_loads": (1000.0, 3000.0, 5000.0, 7000.0, -1000.0),
+         "truss_conv_loads": (3000.0, -1000.0), "truss_conv_dx": (0.01, 0.005, 0.002)}
+FULL = {"beam_conv_loads": (-75.0, -150.0, -250.0),
+        "beam_conv_dx": (0.005, 0.004, 0.002, 0.001, 0.0005),
+        "truss_loads": theory.PAPER_TRUSS_LOADS,
+        "truss_conv_loads": (3000.0, 5000.0, 7000.0, -3000.0, -5000.0, -7000.0),
+        "truss_conv_dx": (0.01, 0.005, 0.002, 0.001, 0.0005)}
+
+# a compressed bar whose tip moved sideways by more than this share of its
+# axial displacement left the straight branch (buckled)
+BUCKLED = 0.05
+
+
+@dataclass
+class Row:
+    table: str
+    problem: str
+    variant: str
+    load: float
+    dx: float
+    dh: float
+    dv: float
+    exact: float          # exact answer of the model we run, same material point
+    error: float          # relative error of the compared component
+    paper: float          # the paper's value (mm) or error (%), nan if none
+    steps: int
+    wall: float
+    note: str = ""
+
+
+class Runner:
+    """Runs each (problem, load, dx, variant) once; tables share results."""
+
+    def __init__(self, nprocs: int = 1, stress: str = "pk1", route: str = "min",
+                 hourglass: float = 0.0, progress=print):
+        self.nprocs, self.stress, self.progress = nprocs, stress, progress
+        self.route, self.hourglass = route, hourglass
+        self.cache: dict = {}
+
+    def tip(self, problem: str, load: float, dx: float, variant: str) -> TipResult:
+        key = (problem, load, dx, variant)
+        if key not in self.cache:
+            gradient, clamp = variant.split("/")
+            self.progress(f"[esph] {problem} {variant}, load {load:g} N, dx = {dx * 1e3:g} mm ...")
+            script = BEAM if problem == "beam" else TRUSS
+            load_var = "Fy" if problem == "beam" else "Fx"
+            variables = {load_var: load, "dx": dx, "stress": self.stress, "grad": gradient,
+                         "clamp": clamp, "route": self.route, "hg": self.hourglass}
+            self.cache[key] = run_tip(script, variables, self.nprocs)
+        return self.cache[key]
+
+
+def beam_exact(load: float, dx: float) -> tuple[float, float]:
+    beam = theory.Beam()
+    return theory.beam_tip(beam, load, s=beam.L - 0.5 * dx)
+
+
+def truss_exact(load: float, dx: float, stress: str) -> float:
+    truss = theory.Truss()
+    return truss.displacement(load, stress, truss.L - 0.5 * dx)
+
+
+def order(errors: list[float], dxs: list[float]) -> list[float]:
+    """Observed order between successive resolutions, log(e1/e2)/log(dx1/dx2)."""
+    out = [float("nan")]
+    for k in range(1, len(errors)):
+        e1, e2 = abs(errors[k - 1]), abs(errors[k])
+        ok = e1 > 0 and e2 > 0
+        out.append(math.log(e1 / e2) / math.log(dxs[k - 1] / dxs[k]) if ok else float("nan"))
+    return out
+
+
+def table1(run: Runner, variant: str, dx: float = 0.002,
+           loads=theory.PAPER_BEAM_LOADS) -> list[Row]:
+    print(f"\nTable 1 (ICB): beam, {VARIANT_LABELS[variant]}, dx = {dx * 1e3:g} mm, stress "
+          f"{run.stress}, route {run.route}.  exact = elastica at s = L - dx/2; paper = its ICB row, "
+          "its error against the same exact value")
+    head = (f"{'Fy[N]':>7} {'dv[mm]':>9} {'exact':>9} {'paper':>8} {'err_dv':>7} {'paper':>7} | "
+            f"{'dh[mm]':>8} {'exact':>8} {'paper':>7} {'err_dh':>7} | {'steps':>6} {'wall[s]':>7}")
+    print(head)
+    print("-" * len(head))
+    rows = []
+    for load in loads:
+        k = theory.PAPER_BEAM_LOADS.index(load)
+        tip = run.tip("beam", load, dx, variant)
+        ex_dh, ex_dv = beam_exact(load, dx)
+        p_dv, p_dh = theory.PAPER_BEAM["ICB"]["dv"][k], theory.PAPER_BEAM["ICB"]["dh"][k]
+        err_dv, err_dh, p_err = tip.dv / ex_dv - 1, tip.dh / ex_dh - 1, p_dv * 1e-3 / ex_dv - 1
+        print(f"{load:7.0f} {tip.dv * 1e3:9.4f} {ex_dv * 1e3:9.4f} {p_dv:8.2f} {100 * err_dv:6.2f}% "
+              f"{100 * p_err:6.2f}% | {tip.dh * 1e3:8.4f} {ex_dh * 1e3:8.4f} {p_dh:7.3f} "
+              f"{100 * err_dh:6.2f}% | {tip.steps:6d} {tip.wall:7.2f}", flush=True)
+        rows.append(Row("1", "beam", variant, load, dx, tip.dh, tip.dv, ex_dv, err_dv, p_dv,
+                        tip.steps, tip.wall))
+    worst = max(abs(r.error) for r in rows)
+    print(f"largest |error| in dv, {variant}: {100 * worst:.2f}%")
+    return rows
+
+
+def table2(run: Runner, variant: str, loads, dxs) -> list[Row]:
+    print(f"\nTable 2 (ICB): beam convergence, {VARIANT_LABELS[variant]}.  err = (ours - exact)"
+          "/exact in %, p = observed order; paper = Table 2 (its errors against its own theory "
+          "row)")
+    head = f"{'dx[mm]':>6} | " + " | ".join(
+        f"{f'{load:g} N dv':>11} {'p':>5} {'paper':>6} {'dh':>7} {'paper':>6}" for load in loads)
+    print(head)
+    print("-" * len(head))
+    rows, table = [], {}
+    for load in loads:
+        errs_v, errs_h = [], []
+        for dx in dxs:
+            tip = run.tip("beam", load, dx, variant)
+            ex_dh, ex_dv = beam_exact(load, dx)
+            errs_v.append(tip.dv / ex_dv - 1)
+            errs_h.append(tip.dh / ex_dh - 1)
+            paper = theory.PAPER_BEAM_CONVERGENCE.get(load, {}).get(dx * 1e3, (math.nan,) * 2)
+            rows.append(Row("2", "beam", variant, load, dx, tip.dh, tip.dv, ex_dv, errs_v[-1],
+                            paper[0], tip.steps, tip.wall))
+        table[load] = (errs_v, order(errs_v, list(dxs)), errs_h)
+    for k, dx in enumerate(dxs):
+        cells = []
+        for load in loads:
+            ev, pv, eh = table[load]
+            paper = theory.PAPER_BEAM_CONVERGENCE.get(load, {}).get(dx * 1e3, (math.nan,) * 2)
+            cells.append(f"{100 * ev[k]:10.2f}% {pv[k]:5.2f} {paper[0]:5.2f}% {100 * eh[k]:6.2f}% "
+                         f"{paper[1]:5.2f}%")
+        print(f"{dx * 1e3:6g} | " + " | ".join(cells), flush=True)
+    return rows
+
+
+def table3(run: Runner, variant: str, loads, dx: float = 0.002) -> list[Row]:
+    truss = theory.Truss()
+    print(f"\nTable 3 (ICB): truss, {VARIANT_LABELS[variant]}, dx = {dx * 1e3:g} mm, stress "
+          f"{run.stress}.  exact = Green strain + SVK ({run.stress}) at X = L - dx/2; linear = "
+          "F L/(A E), the paper's theory; lateral = |tip dv| (buckling)")
+    head = (f"{'Fx[N]':>7} {'dh[mm]':>9} {'exact':>9} {'err':>7} {'linear':>7} {'paper':>7} "
+            f"{'p.err/lin':>9} {'lateral':>9} | {'steps':>6} {'wall[s]':>7}")
+    print(head)
+    print("-" * len(head))
+    rows = []
+    for load in loads:
+        tip = run.tip("truss", load, dx, variant)
+        exact = truss_exact(load, dx, run.stress)
+        k = theory.PAPER_TRUSS_LOADS.index(load)
+        paper = theory.PAPER_TRUSS["ICB"][k]
+        buckled = abs(tip.dv) > BUCKLED * abs(tip.dh)
+        note = "buckled" if buckled else ""
+        err = tip.dh / exact - 1
+        err_txt = f"{'buckled':>7}" if buckled else f"{100 * err:6.2f}%"
+        print(f"{load:7.0f} {tip.dh * 1e3:9.4f} {exact * 1e3:9.4f} {err_txt} "
+              f"{truss.linear(load) * 1e3:7.2f} {paper:7.2f} "
+              f"{100 * (paper * 1e-3 / truss.linear(load) - 1):8.2f}% {abs(tip.dv) * 1e3:9.4f} | "
+              f"{tip.steps:6d} {tip.wall:7.2f}", flush=True)
+        rows.append(Row("3", "truss", variant, load, dx, tip.dh, tip.dv, exact, err, paper,
+                        tip.steps, tip.wall, note))
+    return rows
+
+
+def table4(run: Runner, variant: str, loads, dxs) -> list[Row]:
+    print(f"\nTable 4 (ICB): truss convergence, {VARIANT_LABELS[variant]}.  err in % against "
+          f"the exact {run.stress} answer, p = observed order; paper = Table 4 (against F L/(A E))")
+    head = f"{'dx[mm]':>6} | " + " | ".join(f"{f'{load:g} N':>10} {'p':>5} {'paper':>6}"
+                                            for load in loads)
+    print(head)
+    print("-" * len(head))
+    rows, table = [], {}
+    for load in loads:
+        errs = []
+        for dx in dxs:
+            tip = run.tip("truss", load, dx, variant)
+            exact = truss_exact(load, dx, run.stress)
+            errs.append(tip.dh / exact - 1)
+            paper = theory.PAPER_TRUSS_CONVERGENCE.get(load, {}).get(dx * 1e3, math.nan)
+            rows.append(Row("4", "truss", variant, load, dx, tip.dh, tip.dv, exact, errs[-1],
+                            paper, tip.steps, tip.wall))
+        table[load] = (errs, order(errs, list(dxs)))
+    for k, dx in enumerate(dxs):
+        cells = []
+        for load in loads:
+            e, p = table[load]
+            paper = theory.PAPER_TRUSS_CONVERGENCE.get(load, {}).get(dx * 1e3, math.nan)
+            cells.append(f"{100 * e[k]:9.3f}% {p[k]:5.2f} {paper:5.2f}%")
+        print(f"{dx * 1e3:6g} | " + " | ".join(cells), flush=True)
+    return rows
+
+
+def plot_convergence(rows: list[Row], png: Path) -> None:
+    """log-log |error| against dx for Tables 2 and 4, ours and the paper's."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for ax, table, title in [(axes[0], "2", "beam, tip dv"), (axes[1], "4", "truss, tip dh")]:
+        sel = [r for r in rows if r.table == table]
+        for key in sorted({(r.variant, r.load) for r in sel}):
+            pts = sorted((r.dx, abs(r.error)) for r in sel if (r.variant, r.load) == key)
+            ax.loglog([p[0] * 1e3 for p in pts], [100 * p[1] for p in pts], "o-",
+                      label=f"{key[0]}, {key[1]:g} N")
+        for load in sorted({r.load for r in sel}):
+            paper = sorted({(r.dx, r.paper) for r in sel if r.load == load and r.paper > 0})
+            if paper:
+                ax.loglog([p[0] * 1e3 for p in paper], [p[1] for p in paper], "k:", marker="x",
+                          label=f"paper, {load:g} N")
+        ax.set_xlabel("dx [mm]")
+        ax.set_ylabel("|error| [%]")
+        ax.set_title(title)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+    plt.close(fig)
+
+
+def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: float = 0.002,
+            beam_loads=theory.PAPER_BEAM_LOADS) -> list[Row]:
+    plan = FULL if full else QUICK
+    rows = []
+    if "1" in tables:
+        for variant in variants:
+            rows += table1(run, variant, dx, beam_loads)
+    if "2" in tables:
+        for variant in variants:
+            rows += table2(run, variant, plan["beam_conv_loads"], plan["beam_conv_dx"])
+    if "3" in tables:
+        for variant in variants:
+            rows += table3(run, variant, plan["truss_loads"], dx)
+    if "4" in tables:
+        for variant in variants:
+            rows += table4(run, variant, plan["truss_conv_loads"], plan["truss_conv_dx"])
+    return rows
+
+
+def rows_as_dicts(rows: list[Row]) -> list[dict]:
+    return [asdict(r) for r in rows]
