@@ -10,7 +10,7 @@ import sys
 from dataclasses import asdict
 from pathlib import Path
 
-from . import theory
+from . import speed, theory
 from .beam import BeamCase, run_beam
 from .paths import lmp_binary
 from .runner import BEAM, run_mpi
@@ -130,6 +130,23 @@ def cmd_rings(args) -> int:
     return 0
 
 
+def cmd_speed(args) -> int:
+    """Speed against error, beside MACHDYN smd/tlsph."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    dxs = [float(x) for x in args.dx.split(",")]
+    problems = [p for p in speed.PROBLEMS if f"{p[0]}{p[1]:g}" in args.problems.split(",")]
+    methods = [m for k, m in enumerate(speed.METHODS) if str(k) in args.methods]
+    rows = speed.run_all(dxs, args.np, problems, methods, progress=_progress)
+    (out / "speed.json").write_text(json.dumps(speed.as_dicts(rows), indent=1))
+    with open(out / "commands.txt", "w") as fh:
+        fh.write(f"# {speed.machine()}\n")
+        fh.writelines(f"{r.command}\n" for r in rows)
+    speed.plot(rows, out / "speed_vs_error.png")
+    print(f"\nJSON, commands and the log-log plot of error against wall time in {out}")
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="esph", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -171,6 +188,19 @@ def main(argv=None) -> int:
                      help="damped runs last tdamp/omega1: error ~ exp(-tdamp) (10)")
     mat.add_argument("--json", help="write the rows to this JSON file")
     mat.set_defaults(func=cmd_matrix)
+
+    spd = sub.add_parser("speed", help="wall time, throughput and error of every scheme and "
+                                       "route, beside MACHDYN smd/tlsph")
+    spd.add_argument("--dx", default="0.004,0.002",
+                     help="comma-separated spacings in m (0.004,0.002; add 0.001 for the record)")
+    spd.add_argument("--problems", default="beam-75,beam-250,truss3000",
+                     help="comma-separated problems: beam-75, beam-250, truss3000")
+    spd.add_argument("--methods", default="012345",
+                     help="which methods, by index: " + "; ".join(
+                         f"{k} {m[0]}" for k, m in enumerate(speed.METHODS)))
+    spd.add_argument("--np", type=int, default=1, help="MPI ranks (1)")
+    spd.add_argument("--out", default="speed-out", help="output folder (speed-out)")
+    spd.set_defaults(func=cmd_speed)
 
     rng = sub.add_parser("rings", help="colliding rings: energy, rebound, contact, failure, "
                                        "snapshots")

@@ -87,8 +87,9 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
         raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{out.log[-3000:]}")
     out.variables = {m.group(1): float(m.group(2)) for m in _PRINT_RE.finditer(proc.stdout)}
     loops = _LOOP_RE.findall(proc.stdout)
-    if loops:   # LAMMPS's own timing of the last run or minimize
+    if loops:   # LAMMPS's own timing of the last run or minimize, and of all of them
         out.variables["loop_time"] = float(loops[-1])
+        out.variables["loop_total"] = sum(float(x) for x in loops)
     return out
 
 
@@ -115,4 +116,5 @@ def run_tip(script: Path, variables: dict, nprocs: int = 1) -> TipResult:
 
 BEAM = EXAMPLES / "beam" / "in.beam"
 TRUSS = EXAMPLES / "truss" / "in.truss"
+BEAM_TLSPH = EXAMPLES / "beam" / "in.beam_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
