@@ -1,0 +1,33 @@
+"""esph.speed: the rows of the speed-against-error table, and the MACHDYN
+beam script measuring the same beam as in.beam."""
+from __future__ import annotations
+
+import pytest
+
+from esph import speed
+from esph.runner import BEAM, BEAM_TLSPH, run_mpi
+
+
+def test_icb_row_has_counts_error_and_throughput():
+    method = speed.METHODS[0]                      # ICB min, the paper's scheme
+    row = speed.run_one("beam", -250.0, method, 0.005, 1)
+    assert row.status == "ok"
+    assert row.atoms == (40 + 3) * 4               # 40 columns + 3 clamp columns, 4 rows
+    assert row.steps > 100 and row.throughput > 1e4
+    # the coarse paper scheme is far too soft at 5 mm (Table 2 style: +30 %)
+    assert 0.15 < row.error < 0.5
+    assert "in.beam" in row.command and "-var dx 0.005" in row.command
+
+
+def test_tlsph_beam_is_the_same_beam():
+    """The same suddenly applied load for the same time: the early response
+    is set by mass, load and stiffness, so both codes' tips move alike."""
+    common = {"Fy": -250.0, "dx": 0.004, "route": "nve"}
+    icb = run_mpi(BEAM, {**common, "nsteps": 400}, 1).variables
+    probe = run_mpi(BEAM_TLSPH, {**common, "nsteps": 100}, 1).variables
+    steps = round(icb["time"] / (probe["time"] / 100))    # TLSPH's steps to the same time
+    tls = run_mpi(BEAM_TLSPH, {**common, "nsteps": steps}, 1).variables
+    assert tls["atoms"] == icb["atoms"]
+    assert tls["time"] == pytest.approx(icb["time"], rel=0.02)
+    assert icb["tip_dv"] < 0
+    assert tls["tip_dv"] == pytest.approx(icb["tip_dv"], rel=0.1)
