@@ -105,6 +105,24 @@ def beam_tip(beam: Beam, load: float, s: float | None = None) -> tuple[float, fl
     return dh * beam.L, math.copysign(dv * beam.L, load)
 
 
+def paper_tip_angle(alpha: float) -> float:
+    """The paper's asymptotic tip slope, eq. (3.3), stated for 0 < alpha < 1.5."""
+    coeffs = (0.5, -4.56543e-2, 8.02901e-3, -8.59983e-4, 2.28499e-6)
+    return sum(c * alpha ** (2 * k + 1) for k, c in enumerate(coeffs))
+
+
+def paper_tip(alpha: float, theta_b: float | None = None) -> tuple[float, float]:
+    """The paper's route to the tip (dh, dv)/L: eqs. (3.1) and (3.2) with the
+    slope of eq. (3.3) (or a given theta_b).  E(mu) and E(phi, mu) are the
+    complete and incomplete integrals of the second kind; scipy takes m = mu^2."""
+    theta_b = paper_tip_angle(alpha) if theta_b is None else theta_b
+    m = 0.5 * (1.0 + math.sin(theta_b))
+    phi = math.asin(1.0 / math.sqrt(2.0 * m))
+    dv = 1.0 - 2.0 / math.sqrt(alpha) * (special.ellipe(m) - special.ellipeinc(phi, m))
+    dh = 1.0 - math.sqrt(2.0 * math.sin(theta_b) / alpha)
+    return -dh, dv
+
+
 def elastica_quadrature(alpha: float) -> tuple[float, float]:
     """Tip (dh, dv)/L by direct integration of the ODE: an independent check."""
     from scipy.integrate import solve_ivp

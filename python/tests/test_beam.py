@@ -26,6 +26,28 @@ def test_theory_reference_values():
     assert np.allclose(theory.elastica_quadrature(0.75), theory.elastica_point(0.75), atol=1e-9)
 
 
+def test_paper_asymptotic_route():
+    """Eq. (3.3)'s slope with eqs. (3.1)-(3.2): at alpha = 0.75 it gives the
+    paper's theory values (-6.792, -47.12) mm and theta_B = 0.358; its slope
+    series is within 1e-4 rad of the exact slope over the loads of Table 1,
+    and the tip within 0.05 % -- so the paper's -1.95 mm at 10 N (exact
+    -2.0) is its arithmetic, not its route."""
+    beam = theory.Beam()
+    dh, dv = theory.paper_tip(0.75)
+    assert dv * beam.L * 1e3 == pytest.approx(47.12, abs=0.005)
+    assert dh * beam.L * 1e3 == pytest.approx(-6.792, abs=0.0005)
+    assert theory.paper_tip_angle(0.75) == pytest.approx(0.358, abs=5e-4)
+    for load in theory.PAPER_BEAM_LOADS:
+        alpha = beam.alpha(load)
+        assert theory.paper_tip_angle(alpha) == pytest.approx(theory.tip_angle(alpha), abs=1e-4)
+        assert theory.paper_tip(alpha)[1] == pytest.approx(theory.elastica_point(alpha)[1],
+                                                           rel=5e-4)
+    # with the exact slope, eqs. (3.1)-(3.2) are the exact tip
+    alpha = 0.75
+    assert np.allclose(theory.paper_tip(alpha, theory.tip_angle(alpha)),
+                       theory.elastica_point(alpha), atol=1e-12)
+
+
 def test_coarse_beam_deflection_against_elastica():
     """dx = 4 mm, 5 rows through the thickness.  The convergence study (README,
     `esph validate --dx ...`) measured dv errors of +22 % (4 mm), +6 to +8 %

@@ -315,3 +315,39 @@ def test_rings_driver_reports_the_collision(tmp_path):
     rings.plot_snapshots(sorted(tmp_path.glob("rings_*.dump")), tmp_path / "s.png", "test")
     assert (tmp_path / "e.png").stat().st_size > 1000
     assert (tmp_path / "s.png").stat().st_size > 1000
+
+
+def test_ring_geometry_is_the_documented_one(tmp_path):
+    """in.rings at dx = 2.5 mm: four circles of radius r_k = Ri + (k - 1/2) dx
+    per ring with n_k = round(2 pi r_k/dx) particles each, volumes that add
+    up to the ring area times t, one molecule ID per ring, ring 2 the mirror
+    image of ring 1, and the outer surfaces one dx apart."""
+    dx, t, ro, ri = 0.0025, 0.001, 0.1, 0.09
+    got = {}
+
+    def grab(lmp):
+        n = lmp.get_natoms()
+        got["x"] = np.array(lmp.numpy.extract_atom("x")[:n, :2])
+        got["x0"] = np.array(lmp.numpy.extract_atom("x0")[:n, :2])
+        got["vol"] = np.array(lmp.numpy.extract_atom("vfrac")[:n])
+        got["mol"] = np.array(lmp.numpy.extract_atom("molecule")[:n])
+
+    run_script(RINGS, {"dx": dx, "tend": 0.0, "outdir": str(tmp_path), "tag": "g"}, read=[],
+               inspect=grab)
+    radii = ri + (np.arange(4) + 0.5) * dx
+    counts = np.round(2 * np.pi * radii / dx).astype(int)
+    x, mol = got["x"], got["mol"]
+    assert len(x) == 2 * counts.sum()
+    assert np.array_equal(got["x0"], x)                     # the reference is the ring
+    xc = ro + 0.5 * dx
+    for ring, sign in ((1, -1.0), (2, 1.0)):
+        sel = mol == ring
+        r = np.hypot(x[sel, 0] - sign * xc, x[sel, 1])
+        k = np.argmin(np.abs(r[:, None] - radii[None, :]), axis=1)
+        assert np.abs(r - radii[k]).max() < 1e-12
+        assert np.array_equal(np.bincount(k, minlength=4), counts)
+        assert got["vol"][sel].sum() == pytest.approx(np.pi * (ro ** 2 - ri ** 2) * t, rel=1e-12)
+    assert mirror_error(x, mol) < 1e-12
+    gap = np.linalg.norm(x[mol == 1][:, None, :] - x[mol == 2][None, :, :], axis=2).min()
+    rout = radii[-1]
+    assert gap == pytest.approx(2 * dx + 2 * rout * (1 - np.cos(np.pi / counts[-1])), rel=1e-9)
