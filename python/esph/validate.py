@@ -220,7 +220,7 @@ def plot_convergence(rows: list[Row], png: Path) -> None:
             paper = sorted({(r.dx, r.paper) for r in sel if r.load == load and r.paper > 0})
             if paper:
                 ax.loglog([p[0] * 1e3 for p in paper], [p[1] for p in paper], "k:", marker="x",
-                          label=f"paper, {load:g} N")
+                          label=f"paper (against its theory), {load:g} N")
         ax.set_xlabel("dx [mm]")
         ax.set_ylabel("|error| [%]")
         ax.set_title(title)

@@ -1,0 +1,114 @@
+"""Every style under valgrind memcheck: short runs that touch each code path
+(2d/3d, both stress measures, quadratic gradient, hourglass, CCB/CCBWAT and
+its integrator, contact with damping, mirror clamp, minimize, restart, the
+diagnostics compute, 2 MPI ranks with atoms migrating) must report no
+invalid read or write and no use of uninitialised memory.  About a minute."""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from esph.paths import lmp_binary
+
+BLOCK = """
+units si
+dimension {dim}
+boundary {bnd}
+atom_style sph/elastic
+comm_modify vel yes
+lattice {lat} 0.001 origin 0.5 0.5 {oz}
+region box block 0 8 0 6 {zr}
+create_box 1 box
+create_atoms 1 box
+set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+displace_atoms all random 5e-5 5e-5 {dz} 1234 units box
+velocity all create 1e17 4928459 loop geom
+timestep 2e-8
+"""
+B2 = BLOCK.format(dim=2, bnd="p s p", lat="sq", oz=0.0, zr="-0.5 0.5", dz=0.0)
+B3 = BLOCK.format(dim=3, bnd="p p p", lat="sc", oz=0.5, zr="0 6", dz=5e-5)
+
+INPUTS = {
+    "icb_2d_contact": B2 + """
+region upper block INF INF 3 INF INF INF
+set region upper mol 2
+pair_style sph/icb 0.0012 stress corotated plane stress hourglass 0.05 gradient quadratic
+pair_coeff * * 1e9 0.3
+fix rot all sph/rotation
+fix c all sph/contact 0.001 thickness 0.001 damping 0.2
+fix_modify c energy yes
+fix nve all nve
+compute diag all sph/elastic/atom stress vonmises strain rotation stretch failed
+compute top all reduce max c_diag[1] c_diag[7]
+thermo_style custom step pe ke f_c c_top[1] c_top[2]
+run 30
+""",
+    "icb_3d_restart": B3 + """
+pair_style sph/icb 0.0012 stress corotated hourglass 0.05
+pair_coeff * * 1e9 0.3
+fix rot all sph/rotation method iterative
+fix nve all nve
+run 20
+write_restart memcheck.restart
+clear
+read_restart memcheck.restart
+fix rot all sph/rotation method polar
+fix nve all nve
+run 20
+""",
+    "ccbwat_2d": B2 + """
+pair_style sph/ccb 0.0012 plane strain thickness 0.001 viscosity 1.0 0.5 artificial_stress 0.3 4 0.001
+pair_coeff * * 1e9 0.3
+fix integrate all sph/ccb/nve
+compute dtc all pair sph/ccb
+compute diag all sph/elastic/atom stress vonmises stretch failed
+compute top all reduce max c_diag[7]
+thermo_style custom step pe ke c_dtc[1] c_top
+run 30
+""",
+    "icb_mirror_minimize": B2.replace("boundary p s p", "boundary s s p") + """
+pair_style sph/icb 0.0012 stress pk1 plane stress gradient quadratic
+pair_coeff * * 1e9 0.0
+compute diag all sph/elastic/atom stress strain
+region left block INF 0.003 INF INF INF INF units box
+group mirror region left
+fix clamp mirror sph/mirror x 0.003
+region right block 0.007 INF INF INF INF INF units box
+group tip region right
+fix load tip addforce 0.0 -0.5 0.0
+fix_modify load energy yes
+min_style cg
+minimize 0.0 1e-10 30 300
+""",
+}
+
+
+def valgrind_cmd(nprocs: int) -> list[str]:
+    supp = Path(__file__).with_name("openmpi.supp")
+    vg = ["valgrind", "--error-exitcode=3", "--leak-check=no", "--track-origins=no", "-q",
+          f"--suppressions={supp}"]
+    if nprocs == 1:
+        return vg
+    return ["mpirun", "--oversubscribe", "-np", str(nprocs)] + vg
+
+
+@pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind not installed")
+@pytest.mark.parametrize("name,nprocs", [(k, 1) for k in INPUTS] + [("icb_2d_contact", 2)])
+def test_no_memory_errors(tmp_path, name, nprocs):
+    script = tmp_path / f"in.{name}"
+    script.write_text(INPUTS[name])
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMP_NUM_THREADS="1")
+    proc = subprocess.run(valgrind_cmd(nprocs) + [lmp_binary(), "-in", script.name, "-log", "none",
+                                                 "-screen", "none", "-nocite"],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=900)
+    report = proc.stdout + proc.stderr
+    assert proc.returncode == 0, report[-4000:]
+    assert "Invalid read" not in report and "Invalid write" not in report
+    assert "uninitialised" not in report
