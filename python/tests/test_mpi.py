@@ -1,0 +1,65 @@
+"""Periodic boxes on 1, 2 and 4 ranks: a jiggled block drifting through the
+periodic boundary, so that every atom changes rank and reference partners
+sit on other ranks and across the boundary, must end in the same state to
+1e-10 relative."""
+from __future__ import annotations
+
+import pytest
+
+from esph.runner import run_mpi
+
+GEOMETRY = {
+    2: ("sq 0.001 origin 0.5 0.5 0.0", "0 10 0 8 -0.5 0.5", 0.0),
+    3: ("sc 0.001 origin 0.5 0.5 0.5", "0 8 0 6 0 6", 5e-5),
+}
+PAIRS = {
+    "icb": "pair_style sph/icb 0.0012 stress corotated hourglass 0.05\npair_coeff * * 1e9 0.3\n"
+           "fix rot all sph/rotation\nfix nve all nve",
+    "ccbwat": "pair_style sph/ccb 0.0012 {thick} viscosity 1.0 0.5 artificial_stress 0.3 4 0.001"
+              "\npair_coeff * * 1e9 0.3\nfix nve all sph/ccb/nve",
+}
+
+
+def script(dim: int, scheme: str) -> str:
+    lattice, region, dz = GEOMETRY[dim]
+    pair = PAIRS[scheme].format(thick="thickness 0.001" if dim == 2 else "")
+    return f"""
+units si
+dimension {dim}
+boundary p p p
+atom_style sph/elastic
+atom_modify map array
+comm_modify vel yes
+lattice {lattice}
+region box block {region}
+create_box 1 box
+create_atoms 1 box
+set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+displace_atoms all random 5e-5 5e-5 {dz} 1234 units box
+velocity all create 1e17 4928459 loop geom
+# a drift of half the box in x over the run: every atom changes rank
+velocity all set 500.0 NULL NULL sum yes units box
+{pair}
+timestep 2e-8
+thermo_style custom step pe ke
+run 400
+variable x1 equal x[1]
+variable y1 equal y[1]
+print "RESULT x1 $(v_x1:%.17g)"
+print "RESULT y1 $(v_y1:%.17g)"
+print "RESULT pe $(pe:%.17g)"
+print "RESULT ke $(ke:%.17g)"
+"""
+
+
+@pytest.mark.parametrize("dim,scheme", [(2, "icb"), (3, "icb"), (2, "ccbwat")])
+def test_periodic_runs_agree_on_1_2_4_ranks(tmp_path, dim, scheme):
+    path = tmp_path / "in.periodic"
+    path.write_text(script(dim, scheme))
+    runs = [run_mpi(path, {}, n).variables for n in (1, 2, 4)]
+    assert runs[0]["pe"] > 0.0
+    for other in runs[1:]:
+        for key in ("x1", "y1", "pe", "ke"):
+            assert other[key] == pytest.approx(runs[0][key], rel=1e-10), key
