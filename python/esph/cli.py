@@ -10,7 +10,7 @@ import sys
 from dataclasses import asdict
 from pathlib import Path
 
-from . import speed, theory
+from . import figures, speed, theory
 from .beam import BeamCase, run_beam
 from .paths import lmp_binary
 from .runner import BEAM, run_mpi
@@ -119,7 +119,7 @@ def cmd_rings(args) -> int:
             rings.plot_energies(res, out / f"energy_{case.tag}.png")
             dumps = sorted(out.glob(f"rings_{case.tag}.*.dump"))
             if dumps:
-                rings.plot_snapshots(dumps, out / f"snapshots_{case.tag}.png",
+                figures.plot_snapshots(dumps, out / f"snapshots_{case.tag}.png",
                                      f"{scheme}, {speed:g} m/s: von Mises stress")
     print("rebound = mean |vx| of the rings at the end; e = rebound/initial speed; contact = "
           "first-last time in contact (nan: still in contact); strain = largest strain energy "
@@ -144,6 +144,15 @@ def cmd_speed(args) -> int:
         fh.writelines(f"{r.command}\n" for r in rows)
     speed.plot(rows, out / "speed_vs_error.png")
     print(f"\nJSON, commands and the log-log plot of error against wall time in {out}")
+    return 0
+
+
+def cmd_figures(args) -> int:
+    """The paper's beam figures: snapshots coloured by von Mises stress."""
+    print(f"Beam under Fy = {args.load:g} N by damped dynamics, dx = {args.dx * 1e3:g} mm, "
+          f"snapshots every {args.snap * 1e3:g} ms (rings: esph rings)")
+    figures.beam_figures(Path(args.out), args.load, args.dx, args.snap,
+                         args.schemes.split(","), args.np, progress=_progress)
     return 0
 
 
@@ -201,6 +210,16 @@ def main(argv=None) -> int:
     spd.add_argument("--np", type=int, default=1, help="MPI ranks (1)")
     spd.add_argument("--out", default="speed-out", help="output folder (speed-out)")
     spd.set_defaults(func=cmd_speed)
+
+    fig = sub.add_parser("figures", help="beam snapshots coloured by von Mises stress (the "
+                                         "paper's Figures 2-4)")
+    fig.add_argument("--load", type=float, default=-250.0, help="tip load in N (-250)")
+    fig.add_argument("--dx", type=float, default=0.002, help="particle spacing in m (0.002)")
+    fig.add_argument("--snap", type=float, default=0.001, help="seconds between snapshots")
+    fig.add_argument("--schemes", default="ccb,ccbwat,icb", help="comma-separated schemes")
+    fig.add_argument("--np", type=int, default=1, help="MPI ranks (1)")
+    fig.add_argument("--out", default="figures-out", help="output folder (figures-out)")
+    fig.set_defaults(func=cmd_figures)
 
     rng = sub.add_parser("rings", help="colliding rings: energy, rebound, contact, failure, "
                                        "snapshots")

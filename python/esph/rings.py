@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .figures import read_dump
 from .runner import RINGS, run_mpi, run_script
 
 # columns of rings_<tag>.dat (fix ave/time in in.rings)
@@ -128,43 +129,6 @@ def mirror_error(rows: np.ndarray) -> float:
         d2 = ((chunk[:, None, :] - b[None, :, :]) ** 2).sum(axis=2)
         worst = max(worst, float(np.sqrt(d2.min(axis=1)).max()))
     return worst
-
-
-def read_dump(path: Path) -> tuple[float, np.ndarray]:
-    """(time, rows of id mol x y vonmises) of one snapshot of in.rings."""
-    lines = Path(path).read_text().splitlines()
-    time = float(lines[lines.index("ITEM: TIME") + 1])
-    start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS")) + 1
-    return time, np.array([[float(v) for v in line.split()] for line in lines[start:]])
-
-
-def plot_snapshots(dumps: list[Path], png: Path, title: str) -> None:
-    """Particles coloured by von Mises stress, one panel per snapshot."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    frames = sorted((read_dump(p) for p in dumps), key=lambda f: f[0])
-    if not frames:
-        return
-    vmax = max(f[1][:, 4].max() for f in frames) or 1.0
-    ncols = min(3, len(frames))
-    nrows = -(-len(frames) // ncols)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 2.1 * nrows + 0.6),
-                             squeeze=False)
-    for ax in axes.flat[len(frames):]:
-        ax.set_visible(False)
-    for ax, (time, rows) in zip(axes.flat, frames):
-        sc = ax.scatter(rows[:, 2], rows[:, 3], c=rows[:, 4] / 1e6, s=1.0, cmap="jet",
-                        vmin=0.0, vmax=vmax / 1e6)
-        ax.set_aspect("equal")
-        ax.set_title(f"t = {time * 1e3:.2f} ms", fontsize=9)
-        ax.set_xticks([])
-        ax.set_yticks([])
-    fig.colorbar(sc, ax=axes.ravel().tolist(), label="von Mises stress [MPa]", shrink=0.8)
-    fig.suptitle(title, fontsize=10)
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
 
 
 def plot_energies(result: RingsResult, png: Path) -> None:

@@ -55,3 +55,13 @@ def test_validate_refuses_an_unknown_variant():
     proc = run_cli("validate", "--variants", "cubic/glued")
     assert proc.returncode == 2
     assert "unknown variant 'cubic/glued'" in proc.stderr
+
+
+def test_figures_writes_beam_snapshots(tmp_path):
+    proc = run_cli("figures", "--dx", "0.005", "--schemes", "icb", "--snap", "0.002",
+                   "--out", str(tmp_path))
+    assert proc.returncode == 0, proc.stderr
+    assert "icb: intact, tip dv = -" in proc.stdout
+    dumps = list(tmp_path.glob("beam_icb_-250_5mm.*.dump"))
+    assert len(dumps) >= 3                       # t = 0, 2, 4, ... ms
+    assert (tmp_path / "beam_icb_-250_5mm.png").stat().st_size > 1000
