@@ -297,7 +297,7 @@ def test_rings_driver_reports_the_collision(tmp_path):
     starts at t = (dx + 2 r (1 - cos(pi/n)))/(2v), seen at the next output
     row.  They rebound slower than they came (energy left in vibrations),
     and the snapshot and energy plots are written."""
-    from esph import rings
+    from esph import figures, rings
     case = rings.RingsCase(dx=0.005, tend=0.003, every=20, snap=0.001)
     res = rings.run_rings(case, tmp_path)
     dt = case.tend / res.steps
@@ -312,7 +312,7 @@ def test_rings_driver_reports_the_collision(tmp_path):
     assert res.t_fail != res.t_fail     # nan: ICB stays intact
     assert res.mirror_error < 1e-9      # particle-level mirror symmetry kept
     rings.plot_energies(res, tmp_path / "e.png")
-    rings.plot_snapshots(sorted(tmp_path.glob("rings_*.dump")), tmp_path / "s.png", "test")
+    figures.plot_snapshots(sorted(tmp_path.glob("rings_*.dump")), tmp_path / "s.png", "test")
     assert (tmp_path / "e.png").stat().st_size > 1000
     assert (tmp_path / "s.png").stat().st_size > 1000
 
