@@ -29,6 +29,7 @@
 #include "memory.h"
 #include "sph_elastic_math.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include <cmath>
@@ -61,6 +62,8 @@ PairSPHICB::PairSPHICB(LAMMPS *lmp) :
   mirror_groupbit = 0;
   comm_what = COMM_QSTRESS;
   nmax_work = maxlocal = 0;
+  jlocal_builds = -1;
+  jlocal_nlocal = -1;
   comm_forward = 9;
 }
 
@@ -114,6 +117,7 @@ int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
 void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
+  jlocal_builds = -1;    // neighbor->ncalls restarts from 0 at every init
   mirror_groupbit = 0;    // fix sph/mirror, initialised after the pair, sets it again
 
   auto fixes = modify->get_fix_by_style("^sph/rotation$");
@@ -140,6 +144,7 @@ void PairSPHICB::compute(int eflag, int vflag)
   const int mp = partners->maxpartner;
   grow_output();
   grow_work();
+  refresh_partner_indices();
 
   if (rotfix) rotfix->begin_sweep();
   for (int i = 0; i < nlocal; i++) {
@@ -180,7 +185,35 @@ void PairSPHICB::grow_work()
     maxlocal = need;
     memory->destroy(jlocal);
     memory->create(jlocal, maxlocal, "pair:jlocal");
+    jlocal_builds = -1;
   }
+}
+
+/* ----------------------------------------------------------------------
+   local index of every reference partner.  Local indices only change when
+   LAMMPS rebuilds its neighbor lists (atoms migrate, ghosts are recreated,
+   atoms are sorted), so the tag lookups are done once per rebuild; that is
+   also when a partner can drop out of the ghost cut-off.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::refresh_partner_indices()
+{
+  const int nlocal = atom->nlocal;
+  if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal) return;
+  const int mp = partners->maxpartner;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < partners->npartner[i]; k++) {
+      const int j = partners->find_partner(i, k);
+      if (j < 0)
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost "
+                   "cut-off at step {}; increase it with 'comm_modify cutoff <d>' (d >= 2h times "
+                   "the largest stretch, plus the neighbor skin)",
+                   partners->partner[i][k], atom->tag[i], update->ntimestep);
+      jlocal[i * mp + k] = j;
+    }
+  jlocal_builds = neighbor->ncalls;
+  jlocal_nlocal = nlocal;
 }
 
 /* ----------------------------------------------------------------------
@@ -188,7 +221,7 @@ void PairSPHICB::grow_work()
    returns its strain energy V_i psi(E_i)
 ------------------------------------------------------------------------- */
 
-double PairSPHICB::stress_pass(int i, int *jl)
+double PairSPHICB::stress_pass(int i, const int *jl)
 {
   const double *const *const x = atom->x;
   const int n = partners->npartner[i];
@@ -196,14 +229,7 @@ double PairSPHICB::stress_pass(int i, int *jl)
 
   double F[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
   for (int k = 0; k < n; k++) {
-    const int j = partners->find_partner(i, k);
-    if (j < 0)
-      error->one(FLERR, Error::NOLASTLINE,
-                 "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost cut-off "
-                 "at step {}; increase it with 'comm_modify cutoff <d>' (d >= 2h times the largest "
-                 "stretch, plus the neighbor skin)",
-                 partners->partner[i][k], atom->tag[i], update->ntimestep);
-    jl[k] = j;
+    const int j = jl[k];
     const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
     const double dx[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
     for (int a = 0; a < 3; a++)

@@ -48,12 +48,15 @@ class PairSPHICB : public PairSPHElastic {
   class FixSPHRotation *rotfix;
   double **defgrad;              // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;              // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
-  int *jlocal;                   // local index of each partner, this step
+  int *jlocal;                   // local index of each partner, since the last rebuild
   int nmax_work, maxlocal;
+  bigint jlocal_builds;          // neighbor->ncalls when jlocal was filled
+  int jlocal_nlocal;
 
   int parse_keyword(int, int, char **) override;
   const char *style_name() const override { return "sph/icb"; }
-  double stress_pass(int i, int *jl);
+  void refresh_partner_indices();
+  double stress_pass(int i, const int *jl);
   double hourglass_pass(int i, const int *jl);
   void force_pass(int i, const int *jl);
   void grow_work();
