@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import platform
+import re
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -72,8 +73,10 @@ def run_one(problem: str, load: float, method, dx: float, nprocs: int) -> SpeedR
     try:
         out = run_mpi(script, variables, nprocs, timeout=7200)
     except RuntimeError as err:
+        found = re.search(r"^ERROR.*$", str(err), re.M)
+        reason = found.group(0) if found else str(err)[-200:]
         return SpeedRow(problem, load, label, dx, 0, 0, float("nan"), float("nan"), float("nan"),
-                        float("nan"), exact, float("nan"), f"error: {str(err)[-120:]}", cmd)
+                        float("nan"), exact, float("nan"), f"error: {reason}", cmd)
     v = out.variables
     value = v["tip_dv"] if comp == 1 else v["tip_dh"]
     failed = v.get("failed", 0.0) > 0.5
