@@ -13,7 +13,7 @@ from pathlib import Path
 from . import figures, speed, theory
 from .beam import BeamCase, run_beam
 from .paths import lmp_binary
-from .runner import BEAM, run_mpi
+from .runner import BEAM, BEAM_TLSPH, run_mpi
 
 
 def _progress(msg: str) -> None:
@@ -52,21 +52,35 @@ def cmd_validate(args) -> int:
     return 0
 
 
+BENCH_STYLES = {
+    "icb": (BEAM, {"scheme": "icb"}),
+    "icb-pk1": (BEAM, {"scheme": "icb", "stress": "pk1"}),
+    "ccb": (BEAM, {"scheme": "ccb"}),
+    "ccbwat": (BEAM, {"scheme": "ccbwat"}),
+    "tlsph": (BEAM_TLSPH, {}),
+}
+
+
 def cmd_bench(args) -> int:
-    """Throughput of sph/icb on the beam: fix nve dynamics for a fixed number of steps."""
-    print(f"sph/icb throughput, beam, fix nve, {args.steps} steps; machine {platform.node()} "
-          f"({os.cpu_count()} cores), {platform.processor() or platform.machine()}")
-    print(f"{'dx[mm]':>7} {'atoms':>7} {'ranks':>5} {'loop[s]':>8} {'Mpart-steps/s':>14}  command")
+    """Throughput on the beam: fix nve dynamics (MACHDYN: its own integrator)
+    for a fixed number of steps, LAMMPS's loop time."""
+    print(f"Throughput, beam under -250 N, undamped dynamics, {args.steps} steps; machine "
+          f"{platform.node()} ({os.cpu_count()} cores), {platform.processor() or platform.machine()}")
+    print(f"{'style':>8} {'dx[mm]':>7} {'atoms':>7} {'ranks':>5} {'loop[s]':>8} {'Mpart-steps/s':>14}"
+          f" {'us/part-step':>12}  command")
     for dx in [float(x) for x in args.dx.split(",")]:
-        for nprocs in [int(x) for x in args.np.split(",")]:
-            variables = {"dx": dx, "route": "nve", "nsteps": args.steps, "Fy": -250}
-            out = run_mpi(BEAM, variables, nprocs)
-            natoms, loop = int(out.variables["atoms"]), out.variables["loop_time"]
-            rate = natoms * args.steps / loop / 1e6
-            cmd = (f"mpirun -np {nprocs} {shlex.quote(lmp_binary())} -in examples/beam/in.beam "
-                   + " ".join(f"-var {k} {v}" for k, v in variables.items()))
-            print(f"{dx * 1e3:7.2f} {natoms:7d} {nprocs:5d} {loop:8.3f} {rate:14.3f}  {cmd}",
-                  flush=True)
+        for style in args.styles.split(","):
+            script, extra = BENCH_STYLES[style]
+            for nprocs in [int(x) for x in args.np.split(",")]:
+                variables = {**extra, "dx": dx, "route": "nve", "nsteps": args.steps, "Fy": -250}
+                out = run_mpi(script, variables, nprocs)
+                natoms, loop = int(out.variables["atoms"]), out.variables["loop_time"]
+                rate = natoms * args.steps / loop
+                cmd = (f"mpirun -np {nprocs} {shlex.quote(lmp_binary())} -in "
+                       f"examples/beam/{script.name} "
+                       + " ".join(f"-var {k} {v}" for k, v in variables.items()))
+                print(f"{style:>8} {dx * 1e3:7.2f} {natoms:7d} {nprocs:5d} {loop:8.3f} "
+                      f"{rate / 1e6:14.3f} {nprocs * 1e6 / rate:12.3f}  {cmd}", flush=True)
     return 0
 
 
@@ -183,10 +197,13 @@ def main(argv=None) -> int:
     val.add_argument("--json", help="write the rows to this JSON file")
     val.set_defaults(func=cmd_validate)
 
-    ben = sub.add_parser("bench", help="sph/icb throughput in particle-steps per second")
+    ben = sub.add_parser("bench", help="throughput in particle-steps per second, beside MACHDYN")
     ben.add_argument("--dx", default="0.002,0.001", help="comma-separated spacings in m")
     ben.add_argument("--np", default="1,2", help="comma-separated MPI rank counts")
     ben.add_argument("--steps", type=int, default=2000)
+    ben.add_argument("--styles", default="icb,ccb,tlsph",
+                     help="comma-separated: " + ", ".join(BENCH_STYLES) + " (tlsph = MACHDYN "
+                          "smd/tlsph on the same beam)")
     ben.set_defaults(func=cmd_bench)
 
     mat = sub.add_parser("matrix", help="the paper's failure matrix: Tables 1 and 3, all schemes")

@@ -65,3 +65,14 @@ def test_figures_writes_beam_snapshots(tmp_path):
     dumps = list(tmp_path.glob("beam_icb_-250_5mm.*.dump"))
     assert len(dumps) >= 3                       # t = 0, 2, 4, ... ms
     assert (tmp_path / "beam_icb_-250_5mm.png").stat().st_size > 1000
+
+
+def test_bench_rows_for_each_style():
+    proc = run_cli("bench", "--dx", "0.005", "--np", "1", "--steps", "50", "--styles",
+                   "icb,ccb,tlsph")
+    assert proc.returncode == 0, proc.stderr
+    rows = [line.split() for line in proc.stdout.splitlines()
+            if line.split() and line.split()[0] in ("icb", "ccb", "tlsph")]
+    assert [r[0] for r in rows] == ["icb", "ccb", "tlsph"]
+    for r in rows:
+        assert int(r[2]) == 172 and float(r[5]) > 0.0     # atoms, throughput
