@@ -6,7 +6,9 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import shutil
 import subprocess
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -77,11 +79,18 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
     `RESULT name value` that the script prints."""
     cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp_binary(), "-in", script.name,
            "-log", "none", "-nocite"] + _var_args(variables) + (extra or [])
+    # a session folder of its own: concurrent mpiruns of one user otherwise
+    # share one under /tmp, and one that ends can remove it under another
+    session = tempfile.mkdtemp(prefix="esph-ompi-")
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
-               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+               OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
+               OMPI_MCA_orte_tmpdir_base=session)
     start = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=script.parent, env=env, capture_output=True, text=True,
-                          timeout=timeout)
+    try:
+        proc = subprocess.run(cmd, cwd=script.parent, env=env, capture_output=True, text=True,
+                              timeout=timeout)
+    finally:
+        shutil.rmtree(session, ignore_errors=True)
     out = RunResult(wall=time.perf_counter() - start, log=proc.stdout + proc.stderr)
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{out.log[-3000:]}")

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from esph import theory
-from esph.matrix import TRUSS_SCRIPT, run_case
-from esph.runner import run_mpi
+from esph.matrix import run_case
+from esph.runner import TRUSS, run_mpi
 
 COARSE = 0.005   # m: 10 particles through H = 5 cm
 
@@ -34,7 +34,7 @@ def test_coarse_icb_truss_against_exact_model(load):
     about 0.4 dx longer).  Bound: 0 < err < 3 %; a wrong stress measure is
     off by 4 % (pk1 vs corotated at 3000 N) in opposite directions for the
     two signs, a wrong modulus or volume by far more."""
-    o = run_case(TRUSS_SCRIPT, "icb", {"Fx": load, "dx": COARSE}, 1)
+    o = run_case(TRUSS, "icb", {"Fx": load, "dx": COARSE}, 1)
     t = theory.Truss()
     exact = t.displacement(load, "pk1", t.L - 0.5 * COARSE)
     err = o.dh / exact - 1.0
@@ -45,8 +45,8 @@ def test_coarse_icb_truss_against_exact_model(load):
 
 def test_failure_criterion_fires_for_ccb_tension_but_not_icb():
     common = {"Fx": 3000.0, "dx": COARSE, "route": "nve", "nsteps": 600}
-    ccb = run_mpi(TRUSS_SCRIPT, {**common, "scheme": "ccb"}, 1).variables
-    icb = run_mpi(TRUSS_SCRIPT, {**common, "scheme": "icb", "stress": "pk1"}, 1).variables
+    ccb = run_mpi(TRUSS, {**common, "scheme": "ccb"}, 1).variables
+    icb = run_mpi(TRUSS, {**common, "scheme": "icb", "stress": "pk1"}, 1).variables
     assert ccb["failed"] == 1.0
     assert ccb["steps"] < 600            # fix halt stopped the run at the failure
     assert 0.0 < ccb["time"] < 1e-3
@@ -60,7 +60,7 @@ def test_ccb_mpi_ranks_agree(scheme):
     twice the static 6 mm, so particles cross the processor boundaries (and
     the shrink-wrapped boundaries move).  1, 2 and 4 ranks: same tip."""
     variables = {"Fx": -3000.0, "dx": COARSE, "route": "nve", "nsteps": 400, "scheme": scheme}
-    tips = [run_mpi(TRUSS_SCRIPT, variables, n).variables for n in (1, 2, 4)]
+    tips = [run_mpi(TRUSS, variables, n).variables for n in (1, 2, 4)]
     ref = tips[0]
     assert ref["failed"] == 0.0
     assert abs(ref["tip_dh"]) > 1e-3
