@@ -70,6 +70,11 @@ class Runner:
         return self.cache[key]
 
 
+def print_head(head: str) -> None:
+    print(head)
+    print("-" * len(head))
+
+
 def beam_exact(load: float, dx: float) -> tuple[float, float]:
     beam = theory.Beam()
     return theory.beam_tip(beam, load, s=beam.L - 0.5 * dx)
@@ -97,8 +102,7 @@ def table1(run: Runner, variant: str, dx: float = 0.002,
           "its error against the same exact value")
     head = (f"{'Fy[N]':>7} {'dv[mm]':>9} {'exact':>9} {'paper':>8} {'err_dv':>7} {'paper':>7} | "
             f"{'dh[mm]':>8} {'exact':>8} {'paper':>7} {'err_dh':>7} | {'steps':>6} {'wall[s]':>7}")
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     rows = []
     for load in loads:
         k = theory.PAPER_BEAM_LOADS.index(load)
@@ -122,8 +126,7 @@ def table2(run: Runner, variant: str, loads, dxs) -> list[Row]:
           "row)")
     head = f"{'dx[mm]':>6} | " + " | ".join(
         f"{f'{load:g} N dv':>11} {'p':>5} {'paper':>6} {'dh':>7} {'paper':>6}" for load in loads)
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     rows, table = [], {}
     for load in loads:
         errs_v, errs_h = [], []
@@ -154,8 +157,7 @@ def table3(run: Runner, variant: str, loads, dx: float = 0.002) -> list[Row]:
           "F L/(A E), the paper's theory; lateral = |tip dv| (buckling)")
     head = (f"{'Fx[N]':>7} {'dh[mm]':>9} {'exact':>9} {'err':>7} {'linear':>7} {'paper':>7} "
             f"{'p.err/lin':>9} {'lateral':>9} | {'steps':>6} {'wall[s]':>7}")
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     rows = []
     for load in loads:
         tip = run.tip("truss", load, dx, variant)
@@ -180,8 +182,7 @@ def table4(run: Runner, variant: str, loads, dxs) -> list[Row]:
           f"the exact {run.stress} answer, p = observed order; paper = Table 4 (against F L/(A E))")
     head = f"{'dx[mm]':>6} | " + " | ".join(f"{f'{load:g} N':>10} {'p':>5} {'paper':>6}"
                                             for load in loads)
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     rows, table = [], {}
     for load in loads:
         errs = []

@@ -95,13 +95,16 @@ def test_bad_input_names_the_problem(commands, message):
     lmp.close()
 
 
-def test_wrong_atom_style():
+@pytest.mark.parametrize("commands,message", [
+    ("pair_style sph/icb 1.0\npair_coeff * * 1e9 0.3", "requires atom_style sph/elastic"),
+    ("fix c all sph/contact 1.0 thickness 0.1", "requires molecule IDs to tell bodies apart"),
+])
+def test_wrong_atom_style(commands, message):
     lmp = make_lammps()
     lmp.commands_string("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
                         "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
-                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n"
-                        "pair_style sph/icb 1.0\npair_coeff * * 1e9 0.3")
-    with pytest.raises(Exception, match="requires atom_style sph/elastic"):
+                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n" + commands)
+    with pytest.raises(Exception, match=message):
         lmp.command("run 0")
     lmp.close()
 
@@ -147,17 +150,6 @@ Atoms # sph/elastic
 3 1 1 1e-9 1e-6 0.0025 0.0005 0 0.0025 0.0005 0
 4 1 1 1e-9 1e-6 0.0035 0.0005 0 0.0035 0.0005 0
 """
-
-
-def test_contact_without_molecule_ids():
-    lmp = make_lammps()
-    lmp.commands_string("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
-                        "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
-                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n"
-                        "fix c all sph/contact 1.0 thickness 0.1")
-    with pytest.raises(Exception, match="requires molecule IDs to tell bodies apart"):
-        lmp.command("run 0")
-    lmp.close()
 
 
 def test_non_positive_volume_in_data_file(tmp_path):
