@@ -31,6 +31,9 @@ METHODS = [
     ("MACHDYN smd/tlsph dyn", BEAM_TLSPH, None, {"route": "dyn"}, None),
 ]
 PROBLEMS = [("beam", -75.0), ("beam", -250.0), ("truss", 3000.0)]
+# a damped run has reached equilibrium when the force 2-norm is below this
+# share of the load
+AT_REST = 1.0e-4
 
 
 @dataclass
@@ -49,6 +52,7 @@ class SpeedRow:
     error: float
     status: str
     command: str
+    residual: float = float("nan")   # dyn routes: force 2-norm / load at the end
 
 
 def exact_answer(problem: str, load: float, dx: float, model: str | None) -> tuple[float, int]:
@@ -80,10 +84,12 @@ def run_one(problem: str, load: float, method, dx: float, nprocs: int) -> SpeedR
     v = out.variables
     value = v["tip_dv"] if comp == 1 else v["tip_dh"]
     failed = v.get("failed", 0.0) > 0.5
+    residual = v.get("residual", float("nan"))
+    status = "failed" if failed else ("not at rest" if residual > AT_REST else "ok")
     atoms, steps, loop = int(v["atoms"]), int(v["steps"]), v.get("loop_total", float("nan"))
     return SpeedRow(problem, load, label, dx, atoms, steps, out.wall, loop,
                     atoms * steps / loop if loop > 0 else float("nan"), value, exact,
-                    value / exact - 1.0, "failed" if failed else "ok", cmd)
+                    value / exact - 1.0, status, cmd, residual)
 
 
 def machine() -> str:
