@@ -31,3 +31,12 @@ def test_tlsph_beam_is_the_same_beam():
     assert tls["time"] == pytest.approx(icb["time"], rel=0.02)
     assert icb["tip_dv"] < 0
     assert tls["tip_dv"] == pytest.approx(icb["tip_dv"], rel=0.1)
+
+
+def test_damped_route_reports_that_it_reached_rest():
+    """20 damping times at 2 omega1: the force left is a tiny share of the
+    load, and the tip is where minimisation puts it."""
+    damped = speed.run_one("beam", -250.0, speed.METHODS[3], 0.005, 1)
+    static = speed.run_one("beam", -250.0, speed.METHODS[1], 0.005, 1)
+    assert damped.status == "ok" and damped.residual < speed.AT_REST
+    assert damped.value == pytest.approx(static.value, rel=1e-3)
