@@ -151,7 +151,8 @@ def cmd_speed(args) -> int:
     dxs = [float(x) for x in args.dx.split(",")]
     problems = [p for p in speed.PROBLEMS if f"{p[0]}{p[1]:g}" in args.problems.split(",")]
     methods = [m for k, m in enumerate(speed.METHODS) if str(k) in args.methods]
-    rows = speed.run_all(dxs, args.np, problems, methods, progress=_progress)
+    truss_dxs = [float(x) for x in args.truss_dx.split(",")]
+    rows = speed.run_all(dxs, args.np, problems, methods, progress=_progress, truss_dxs=truss_dxs)
     (out / "speed.json").write_text(json.dumps(speed.as_dicts(rows), indent=1))
     with open(out / "commands.txt", "w") as fh:
         fh.write(f"# {speed.machine()}\n")
@@ -219,6 +220,8 @@ def main(argv=None) -> int:
                                        "route, beside MACHDYN smd/tlsph")
     spd.add_argument("--dx", default="0.004,0.002",
                      help="comma-separated spacings in m (0.004,0.002; add 0.001 for the record)")
+    spd.add_argument("--truss-dx", default="0.005,0.0025",
+                     help="spacings for the truss, which must divide H = 5 cm (0.005,0.0025)")
     spd.add_argument("--problems", default="beam-75,beam-250,truss3000",
                      help="comma-separated problems: beam-75, beam-250, truss3000")
     spd.add_argument("--methods", default="012345",

@@ -128,14 +128,17 @@ def plot(rows: list[SpeedRow], png: Path) -> None:
     plt.close(fig)
 
 
-def run_all(dxs, nprocs: int, problems=PROBLEMS, methods=METHODS, progress=print):
+def run_all(dxs, nprocs: int, problems=PROBLEMS, methods=METHODS, progress=print,
+            truss_dxs=None):
+    """dxs for the beam; truss_dxs for the truss, whose height H = 5 cm needs
+    a spacing that divides it (default: dxs)."""
     rows = []
     print(f"Speed against error; machine: {machine()}; {nprocs} MPI rank(s); lmp = {lmp_binary()}")
     print(f"{'':>5} {'load':>7} {'method':<42} {'dx':>5} {'atoms':>6} {'steps':>8} {'wall[s]':>8} "
           f"{'Mp-st/s':>8} {'error':>9} status")
     for problem, load in problems:
         for method in methods:
-            for dx in dxs:
+            for dx in (truss_dxs or dxs) if problem == "truss" else dxs:
                 progress(f"[esph] {problem} {load:g} N, {method[0]}, dx = {dx * 1e3:g} mm ...")
                 row = run_one(problem, load, method, dx, nprocs)
                 if row:
