@@ -17,9 +17,9 @@ VARIANT_LABELS = {"linear/fixed": "the paper's scheme: linear gradient correctio
                   "quadratic/mirror": "gradient exact for quadratic fields, mirror clamp",
                   "linear/mirror": "linear gradient correction, mirror clamp"}
 
-QUICK = {"beam_conv_loads": (-250.0,), "beam_conv_dx": (0.005, 0.004, 0.002),
+QUICK = {"beam_conv_loads": (-250.0,), "beam_conv_dx": (0.005, 0.004, 0.002, 0.001),
          "truss_loads": (1000.0, 3000.0, 5000.0, 7000.0, -1000.0),
-         "truss_conv_loads": (3000.0, -1000.0), "truss_conv_dx": (0.01, 0.005, 0.002)}
+         "truss_conv_loads": (3000.0, -1000.0), "truss_conv_dx": (0.01, 0.005, 0.002, 0.001)}
 FULL = {"beam_conv_loads": (-75.0, -150.0, -250.0),
         "beam_conv_dx": (0.005, 0.004, 0.002, 0.001, 0.0005),
         "truss_loads": theory.PAPER_TRUSS_LOADS,

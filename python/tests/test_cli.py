@@ -50,8 +50,8 @@ def test_quick_truss_tables_compare_with_the_exact_model(tmp_path):
     assert proc.returncode == 0, proc.stderr
     rows = json.loads(out.read_text())
     tension = sorted((r["dx"], r["error"]) for r in rows if r["load"] == 3000.0)
-    errors = [e for _, e in tension]            # dx = 2, 5, 10 mm
-    assert 0.0 < errors[0] < errors[1] < errors[2] < 0.06
+    errors = [e for _, e in tension]            # dx = 1, 2, 5, 10 mm
+    assert 0.0 < errors[0] < errors[1] < errors[2] < errors[3] < 0.06
     assert (tmp_path / "convergence.png").stat().st_size > 1000
 
 
