@@ -34,6 +34,10 @@ CASES = [
     ("pair_style sph/icb 0.0012 gradient cubic", "Unknown pair_style sph/icb gradient cubic"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.5", "Poisson's ratio nu must satisfy"),
     ("pair_style sph/icb 0.0012\npair_coeff * * -1e9 0.3", "Young's modulus E must be > 0"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * 0.0 0.3", "Young's modulus E must be > 0"),
+    ("pair_style sph/icb 0.0012\npair_coeff * * stiff 0.3", "Expected floating point parameter"),
+    ("fix i all sph/ccb/nve extra", "it takes no arguments"),
+    ("fix m all sph/mirror x 0.0 extra", "takes two arguments, the plane normal and position"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9", "expected I J E nu"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nrun 0", "requires fix sph/rotation"),
     ("fix r all sph/rotation method magic", "Unknown fix sph/rotation method magic"),
@@ -120,6 +124,16 @@ def test_2d_only_keyword_in_3d(command, message):
     with pytest.raises(Exception, match=message):
         lmp.command(command)
     lmp.close()
+
+
+def test_absurd_load_inverts_a_particle_and_stops_the_run():
+    """The beam under a billion newtons: the first steps crush the tip
+    column, and the run stops with an error instead of going on with NaN."""
+    from esph.runner import BEAM, run_mpi
+    with pytest.raises(RuntimeError) as err:
+        run_mpi(BEAM, {"Fy": -1e9, "dx": 0.005, "route": "nve", "nsteps": 200}, 1)
+    assert "is inverted (det F = " in str(err.value)
+    assert "the load or the time step is too large" in str(err.value)
 
 
 def test_inverted_particle_stops_dynamics():

@@ -77,7 +77,10 @@ std::vector<double> gather_all(const std::vector<double> &mine, MPI_Comm world, 
 FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), fsource(nullptr), nmax(0)
 {
-  if (narg != 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
+  if (narg < 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
+  if (narg > 5)
+    error->all(FLERR, 5, "Fix sph/mirror takes two arguments, the plane normal and position; "
+               "unexpected '{}'", arg[5]);
   if (strcmp(arg[3], "x") == 0)
     axis = 0;
   else if (strcmp(arg[3], "y") == 0)
