@@ -289,9 +289,13 @@ void FixSPHMirror::place_mirrors()
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
 
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const int j = local_source(i);
+  // local indices hold until the next neighbor rebuild, which never falls
+  // between this (pre_force) and hand_over_forces() (post_force)
+  links.clear();
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
+
+  for (const auto &[i, j] : links) {
     double u[3] = {x[j][0] - x0[j][0], x[j][1] - x0[j][1], x[j][2] - x0[j][2]};
     domain->minimum_image(u);
     double shift[3] = {x0[i][0] - u[0] - x[i][0], x0[i][1] - u[1] - x[i][1],
@@ -321,20 +325,13 @@ void FixSPHMirror::hand_over_forces()
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
 
   double **f = atom->f;
-  double **v = atom->v;
-  const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const int j = local_source(i);
+  for (const auto &[i, j] : links)
     for (int a = 0; a < 3; a++) {
       fsource[j][a] -= f[i][a];
       f[i][a] = 0.0;
-      v[i][a] = 0.0;
     }
-  }
   comm->reverse_comm(this);
-  for (int i = 0; i < nlocal; i++)
+  for (int i = 0; i < atom->nlocal; i++)
     for (int a = 0; a < 3; a++) f[i][a] += fsource[i][a];
 }
 

@@ -23,6 +23,8 @@ FixStyle(sph/mirror,FixSPHMirror);
 #include "fix.h"
 
 #include <map>
+#include <utility>
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -59,6 +61,7 @@ class FixSPHMirror : public Fix {
   double plane;                    // its position (reference coordinates)
   std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
   double **fsource;                   // forces handed to sources, owned + ghost atoms
+  std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
   int nmax;
 
   void pair_up();
