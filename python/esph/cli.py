@@ -34,7 +34,7 @@ def cmd_validate(args) -> int:
     print(f"{'Full' if args.full else 'Quick'} validation of pair_style sph/icb against the exact "
           f"theory and Tran-Duc et al. (2023), {args.np} MPI rank(s); tip = centroid of the last "
           f"column, compared at the same material point.  Output in {out}.")
-    run = validate.Runner(nprocs=args.np, stress=args.stress, route=args.route,
+    run = validate.Runner(nprocs=args.np, stress=args.stress, route=args.route, solver=args.solver,
                           hourglass=args.hourglass, progress=_progress)
     loads = [float(x) for x in args.loads.split(",")]
     rows = validate.run_all(run, args.variants.split(","), args.full, args.tables, args.dx, loads)
@@ -186,10 +186,13 @@ def main(argv=None) -> int:
     val.add_argument("--loads", default=",".join(f"{x:g}" for x in theory.PAPER_BEAM_LOADS),
                      help="comma-separated beam loads of Table 1 in N")
     val.add_argument("--out", default="validate-out", help="folder for JSON and PNG output")
-    # pk1 is the exact gradient of the strain energy, which the CG minimiser needs;
+    # pk1 is the exact gradient of the strain energy, which minimisation needs;
     # corotated (the paper's measure) reaches equilibrium through --route dyn
     val.add_argument("--stress", default="pk1", choices=["corotated", "pk1"])
     val.add_argument("--route", default="min", choices=["min", "dyn"])
+    val.add_argument("--solver", default="newton", choices=["newton", "cg"],
+                     help="minimiser of the min route: newton = min_style sph/newton (stress pk1 "
+                          "only), cg = conjugate gradients (default: %(default)s)")
     val.add_argument("--hourglass", type=float, default=0.0)
     val.add_argument("--variants", default="linear/fixed,quadratic/mirror",
                      help="comma-separated gradient/clamp pairs: gradient linear (paper) or "
@@ -224,7 +227,7 @@ def main(argv=None) -> int:
                      help="spacings for the truss, which must divide H = 5 cm (0.005,0.0025)")
     spd.add_argument("--problems", default="beam-75,beam-250,truss3000",
                      help="comma-separated problems: beam-75, beam-250, truss3000")
-    spd.add_argument("--methods", default="012345",
+    spd.add_argument("--methods", default="01234567",
                      help="which methods, by index: " + "; ".join(
                          f"{k} {m[0]}" for k, m in enumerate(speed.METHODS)))
     spd.add_argument("--np", type=int, default=1, help="MPI ranks (1)")

@@ -18,10 +18,12 @@ from .runner import BEAM, BEAM_TLSPH, TRUSS, run_mpi
 
 # (label, script for the beam, script for the truss or None, variables, truss model)
 METHODS = [
-    ("ICB min, paper (linear/fixed, pk1)", BEAM, TRUSS,
-     {"route": "min", "stress": "pk1", "grad": "linear", "clamp": "fixed"}, "pk1"),
-    ("ICB min, quadratic/mirror, pk1", BEAM, TRUSS,
-     {"route": "min", "stress": "pk1", "grad": "quadratic", "clamp": "mirror"}, "pk1"),
+    ("ICB min CG, paper (linear/fixed, pk1)", BEAM, TRUSS,
+     {"route": "min", "solver": "cg", "stress": "pk1", "grad": "linear", "clamp": "fixed"},
+     "pk1"),
+    ("ICB min CG, quadratic/mirror, pk1", BEAM, TRUSS,
+     {"route": "min", "solver": "cg", "stress": "pk1", "grad": "quadratic", "clamp": "mirror"},
+     "pk1"),
     ("ICB dyn, paper (linear/fixed, corotated)", BEAM, TRUSS,
      {"route": "dyn", "stress": "corotated", "grad": "linear", "clamp": "fixed"}, "corotated"),
     ("ICB dyn, quadratic/mirror, pk1", BEAM, TRUSS,
@@ -29,6 +31,12 @@ METHODS = [
      "pk1"),
     ("CCBWAT dyn", BEAM, TRUSS, {"scheme": "ccbwat", "route": "dyn"}, "hypo"),
     ("MACHDYN smd/tlsph dyn", BEAM_TLSPH, None, {"route": "dyn"}, None),
+    ("ICB min Newton, paper (linear/fixed, pk1)", BEAM, TRUSS,
+     {"route": "min", "solver": "newton", "stress": "pk1", "grad": "linear", "clamp": "fixed"},
+     "pk1"),
+    ("ICB min Newton, quadratic/mirror, pk1", BEAM, TRUSS,
+     {"route": "min", "solver": "newton", "stress": "pk1", "grad": "quadratic",
+      "clamp": "mirror"}, "pk1"),
 ]
 PROBLEMS = [("beam", -75.0), ("beam", -250.0), ("truss", 3000.0)]
 # a damped run has reached equilibrium when the force 2-norm is below this

@@ -52,9 +52,11 @@ class Runner:
     """Runs each (problem, load, dx, variant) once; tables share results."""
 
     def __init__(self, nprocs: int = 1, stress: str = "pk1", route: str = "min",
-                 hourglass: float = 0.0, progress=print):
+                 hourglass: float = 0.0, progress=print, solver: str = "newton"):
         self.nprocs, self.stress, self.progress = nprocs, stress, progress
         self.route, self.hourglass = route, hourglass
+        # min_style sph/newton needs the energy of stress pk1; corotated minimises with CG
+        self.solver = solver if stress == "pk1" else "cg"
         self.cache: dict = {}
 
     def tip(self, problem: str, load: float, dx: float, variant: str) -> TipResult:
@@ -65,7 +67,8 @@ class Runner:
             script = BEAM if problem == "beam" else TRUSS
             load_var = "Fy" if problem == "beam" else "Fx"
             variables = {load_var: load, "dx": dx, "stress": self.stress, "grad": gradient,
-                         "clamp": clamp, "route": self.route, "hg": self.hourglass}
+                         "clamp": clamp, "route": self.route, "hg": self.hourglass,
+                         "solver": self.solver}
             self.cache[key] = run_tip(script, variables, self.nprocs)
         return self.cache[key]
 

@@ -55,6 +55,8 @@ class FixSPHMirror : public Fix {
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
+  // mirror atom ID -> source atom ID, the same on every rank
+  const std::map<tagint, tagint> &mirror_sources() const { return source; }
 
  private:
   int axis;                        // normal of the mirror plane: 0, 1, 2 = x, y, z

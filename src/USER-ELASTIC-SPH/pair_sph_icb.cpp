@@ -34,6 +34,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 
@@ -362,6 +363,127 @@ void PairSPHICB::force_pass(int i, const int *jl)
           (Qj[3 * a] * gji[0] + Qj[3 * a + 1] * gji[1] + Qj[3 * a + 2] * gji[2]);
     const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     add_pair_force(i, fij, del);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Hessian of the energy at the positions of the last compute(), for
+   min_style sph/newton: every owned atom sends the blocks of its own energy
+   terms, so the sum over ranks is the whole Hessian.  Exact for stress pk1
+   without hourglass control; with it, only the spring part of the hourglass
+   energy is included (an SPD approximation: Newton then converges linearly).
+------------------------------------------------------------------------- */
+
+void PairSPHICB::hessian(const HessianSink &add) const
+{
+  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: the Hessian needs forces computed since the last neighbor "
+               "list build");
+  const int mp = partners->maxpartner;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & mirror_groupbit)) strain_hessian(i, &jlocal[i * mp], add);
+    if (hourglass > 0.0) hourglass_hessian(i, &jlocal[i * mp], add);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   V_i psi(F_i) with F_i = sum_k x_k (x) G_ik, G_ij = g_ij, G_ii = -sum_j g_ij:
+     d2/dx_k[a] dx_l[b] = V_i sum_JL A_aJbL G_ik[J] G_il[L]
+   with the St. Venant-Kirchhoff tangent A = dP/dF of P = F S:
+     A_aJbL = delta_ab S_JL + lambda F_aJ F_bL + mu delta_JL (F F^T)_ab + mu F_aL F_bJ
+------------------------------------------------------------------------- */
+
+void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) const
+{
+  const int dim = domain->dimension;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+  const tagint *tag = atom->tag;
+  const int t = atom->type[i];
+  const double lambda = lame_lambda[t], mu = lame_mu[t];
+
+  double F[3][3], E[3][3], S[3][3], FFt[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      E[a][b] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
+      FFt[a][b] = F[a][0] * F[b][0] + F[a][1] * F[b][1] + F[a][2] * F[b][2];
+    }
+  const double trE = E[0][0] + E[1][1] + E[2][2];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) S[a][b] = 2.0 * mu * E[a][b] + (a == b ? lambda * trE : 0.0);
+
+  double A[3][3][3][3];
+  for (int a = 0; a < dim; a++)
+    for (int J = 0; J < dim; J++)
+      for (int b = 0; b < dim; b++)
+        for (int L = 0; L < dim; L++)
+          A[a][J][b][L] = (a == b ? S[J][L] : 0.0) + lambda * F[a][J] * F[b][L] +
+              (J == L ? mu * FFt[a][b] : 0.0) + mu * F[a][L] * F[b][J];
+
+  // the stencil of F_i: atom i itself (slot 0) and its partners
+  std::vector<double> G(3 * (n + 1), 0.0);
+  std::vector<tagint> id(n + 1);
+  id[0] = tag[i];
+  for (int k = 0; k < n; k++) {
+    const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
+    id[k + 1] = tag[jl[k]];
+    for (int J = 0; J < 3; J++) {
+      G[3 * (k + 1) + J] = g[J];
+      G[J] -= g[J];
+    }
+  }
+
+  const double vi = atom->vfrac[i];
+  double M[3][3][3], block[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  for (int k = 0; k <= n; k++) {
+    const double *Gk = &G[3 * k];
+    for (int a = 0; a < dim; a++)
+      for (int b = 0; b < dim; b++)
+        for (int L = 0; L < dim; L++) {
+          double sum = 0.0;
+          for (int J = 0; J < dim; J++) sum += A[a][J][b][L] * Gk[J];
+          M[a][b][L] = vi * sum;
+        }
+    for (int l = 0; l <= n; l++) {
+      const double *Gl = &G[3 * l];
+      for (int a = 0; a < dim; a++)
+        for (int b = 0; b < dim; b++) {
+          double sum = 0.0;
+          for (int L = 0; L < dim; L++) sum += M[a][b][L] * Gl[L];
+          block[a][b] = sum;
+        }
+      add(id[k], id[l], block);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   spring part of 1/4 k_ij |d_ij|^2: the direct x_j - x_i dependence only
+------------------------------------------------------------------------- */
+
+void PairSPHICB::hourglass_hessian(int i, const int *jl, const HessianSink &add) const
+{
+  const int dim = domain->dimension;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const double *pd = partners->pdata[i];
+  for (int k = 0; k < partners->npartner[i]; k++) {
+    const int j = jl[k];
+    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    double plus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    double minus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    for (int a = 0; a < dim; a++) {
+      plus[a][a] = 0.5 * kij;
+      minus[a][a] = -0.5 * kij;
+    }
+    add(tag[i], tag[i], plus);
+    add(tag[j], tag[j], plus);
+    add(tag[i], tag[j], minus);
+    add(tag[j], tag[i], minus);
   }
 }
 

@@ -22,6 +22,8 @@ PairStyle(sph/icb,PairSPHICB);
 
 #include "pair_sph_elastic.h"
 
+#include <functional>
+
 namespace LAMMPS_NS {
 
 class PairSPHICB : public PairSPHElastic {
@@ -39,6 +41,14 @@ class PairSPHICB : public PairSPHElastic {
   double memory_usage() override;
   // atoms of this group carry no strain energy (mirror atoms of fix sph/mirror)
   void add_mirror_group(int groupbit) { mirror_groupbit |= groupbit; }
+
+  // receives one d x d block d2E/dx_k dx_l of the Hessian, by atom IDs k and l
+  using HessianSink = std::function<void(tagint, tagint, const double (*)[3])>;
+  // true if the forces are minus the gradient of the energy (stress pk1)
+  bool has_energy() const { return measure == PK1; }
+  // true if hessian() is exact (without hourglass control); else it is an SPD approximation
+  bool hessian_is_exact() const { return hourglass == 0.0; }
+  void hessian(const HessianSink &) const;
 
  protected:
   int measure;                   // stress measure P = R S (corotated) or F S (pk1)
@@ -60,6 +70,8 @@ class PairSPHICB : public PairSPHElastic {
   double hourglass_pass(int i, const int *jl);
   void force_pass(int i, const int *jl);
   void grow_work();
+  void strain_hessian(int i, const int *jl, const HessianSink &) const;
+  void hourglass_hessian(int i, const int *jl, const HessianSink &) const;
 };
 
 }    // namespace LAMMPS_NS

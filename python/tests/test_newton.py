@@ -1,0 +1,136 @@
+"""min_style sph/newton: Newton's method on the exact Hessian of sph/icb
+(stress pk1).  A wrong Hessian still converges (the line search sees to
+that) but only linearly, so the quadratic drop of the force norm is what
+tests the Hessian; the equilibrium itself is checked against CG."""
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from esph import validate
+from esph.runner import BEAM, TRUSS, run_mpi, run_script
+from conftest import make_lammps
+from test_errors import BASE, ICB
+
+LOAD = -250.0
+COARSE = {"Fy": LOAD, "dx": 0.004, "stress": "pk1", "route": "min", "thermo_every": 1}
+THERMO = re.compile(r"^\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s*$", re.M)
+
+
+def force_norms(log: str) -> list[float]:
+    """Fnorm column of the thermo lines of the minimisation (the last block)."""
+    block = log.split("Minimization")[0].split("Step")[-1]
+    return [float(m.group(4)) for m in THERMO.finditer(block)]
+
+
+def newton_run(tmp_path, variables, name="newton"):
+    log = tmp_path / f"{name}.log"
+    out = run_script(BEAM, {**COARSE, **variables}, read=["tip_dh", "tip_dv"], log=log)
+    return out, log.read_text()
+
+
+@pytest.mark.parametrize("grad,clamp", [("quadratic", "mirror"), ("linear", "fixed")])
+def test_newton_converges_quadratically_to_the_cg_equilibrium(tmp_path, grad, clamp):
+    variables = {"grad": grad, "clamp": clamp}
+    newton, log = newton_run(tmp_path, {**variables, "solver": "newton", "ftol": 1e-10})
+    norms = [f / abs(LOAD) for f in force_norms(log)]
+    assert norms[-1] < 1e-10
+    assert len(norms) - 1 <= 15                      # iterations; CG needs thousands
+    # quadratic convergence: each of the last steps squares the residual, until
+    # it meets the round-off floor near 1e-11 of the load
+    tail = norms[-5:]
+    steps = [(g0, g1) for g0, g1 in zip(tail, tail[1:]) if g1 > 1e-10]
+    assert len(steps) >= 2, norms
+    for g0, g1 in steps:
+        assert g1 <= 10.0 * g0 * g0, norms
+    cg, _ = newton_run(tmp_path, {**variables, "solver": "cg", "thermo_every": 1000}, "cg")
+    assert cg.steps > 20 * newton.steps
+    for key in ("tip_dh", "tip_dv"):
+        assert newton.variables[key] == pytest.approx(cg.variables[key], rel=2e-6)
+
+
+def test_newton_on_ranks_agrees_with_serial():
+    """The Hessian is gathered to rank 0 by atom ID; rank boundaries cut the
+    beam and the mirror/source pairs."""
+    variables = {**COARSE, "grad": "quadratic", "clamp": "mirror", "solver": "newton",
+                 "ftol": 1e-10}
+    tips = [run_mpi(BEAM, variables, n).variables for n in (1, 2, 3)]
+    for tip in tips[1:]:
+        assert tip["tip_dv"] == pytest.approx(tips[0]["tip_dv"], rel=1e-10)
+        assert tip["tip_dh"] == pytest.approx(tips[0]["tip_dh"], rel=1e-10)
+
+
+@pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])
+def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, saddle):
+    """The bar buckles near -1.3 kN.  Newton keeps a symmetric bar straight
+    (the force has no bending part), converges to the straight equilibrium
+    in a few steps, and says when it is unstable (negative pivots)."""
+    dx = 0.005
+    log = tmp_path / "truss.log"
+    out = run_script(TRUSS, {"Fx": load, "dx": dx, "grad": "quadratic", "clamp": "mirror",
+                             "solver": "newton"}, read=["tip_dh", "tip_dv"], log=log)
+    text = log.read_text()
+    assert ("equilibrium is unstable (a saddle point" in text) == saddle
+    assert out.steps <= 8
+    assert abs(out.variables["tip_dv"]) < 1e-12
+    exact = validate.truss_exact(load, dx, "pk1")
+    assert out.variables["tip_dh"] == pytest.approx(exact, rel=0.01)
+
+
+def test_hourglass_control_converges_with_a_warning(tmp_path):
+    newton, log = newton_run(tmp_path, {"grad": "quadratic", "clamp": "mirror", "hg": 0.05,
+                                        "solver": "newton", "thermo_every": 100})
+    assert "hourglass-control energy is approximated by its spring part" in log
+    assert "Stopping criterion = force tolerance" in log
+    cg, _ = newton_run(tmp_path, {"grad": "quadratic", "clamp": "mirror", "hg": 0.05,
+                                  "solver": "cg", "thermo_every": 1000}, "cg")
+    assert newton.variables["tip_dv"] == pytest.approx(cg.variables["tip_dv"], rel=1e-6)
+
+
+MIN = "\nfix hold all setforce 0 0 0\nminimize 0 1e-8 100 1000\n"
+
+
+@pytest.mark.parametrize("commands,message", [
+    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nfix r all sph/rotation\n"
+     "min_style sph/newton" + MIN, "needs an energy whose gradient is the force"),
+    ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + MIN,
+     "requires pair_style sph/icb"),
+    (ICB + "min_style sph/newton\nfix a all aveforce 0 0 0\nminimize 0 1e-8 100 1000",
+     "cannot model how the fixes change the force on atom"),
+    (ICB + "min_style sph/newton\ngroup odd id 1:24:2\ndelete_atoms group odd compress no" + MIN,
+     "requires consecutive atom IDs 1..N"),
+    (ICB + "min_style sph/newton\nfix h all setforce 0 0 0\nminimize 0 1e-8 100 1000",
+     "every coordinate is held fixed"),
+])
+def test_bad_newton_input_names_the_problem(commands, message):
+    lmp = make_lammps()
+    lmp.commands_string(BASE)
+    with pytest.raises(Exception) as err:
+        lmp.commands_string(commands)
+    assert message in str(err.value)
+    lmp.close()
+
+
+def test_load_outside_the_energy_is_reported(tmp_path):
+    """Without fix_modify energy yes the load does work the energy does not
+    see: no step lowers the energy, and the warning says why."""
+    log = tmp_path / "log"
+    lmp = make_lammps_with_log(log)
+    lmp.commands_string(BASE + ICB + """
+        group left id 1 7 13 19
+        group right id 6 12 18 24
+        fix hold left setforce 0 0 0
+        fix pull right addforce 1000 0 0
+        min_style sph/newton
+        minimize 0 1e-8 100 1000
+    """)
+    lmp.close()
+    text = log.read_text()
+    assert "Stopping criterion = linesearch alpha is zero" in text
+    assert "is every external load in the energy" in text
+
+
+def make_lammps_with_log(log):
+    from lammps import lammps
+    return lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])

@@ -1,0 +1,489 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+   Newton's method with a sparse direct solve for pair_style sph/icb.
+   Conjugate gradients need tens of thousands of iterations on a slender
+   beam (the stiffness matrix's condition number grows like (L/dx)^2 (L/H)^2);
+   Newton needs a handful of factorisations of a matrix with a few dozen
+   non-zeros per row.
+------------------------------------------------------------------------- */
+
+#include "min_sph_newton.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_minimize.h"
+#include "fix_sph_mirror.h"
+#include "force.h"
+#include "modify.h"
+#include "output.h"
+#include "pair_sph_icb.h"
+#include "thermo.h"
+#include "timer.h"
+#include "update.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include <climits>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+using namespace LAMMPS_NS;
+
+namespace {
+constexpr double ARMIJO = 1.0e-4;         // sufficient-decrease fraction of the line search
+constexpr int MAXHALVING = 40;            // step halvings before the line search gives up
+constexpr double ROUNDOFF = 1.0e-13;      // relative energy change below round-off
+constexpr int ROUNDOFF_WINDOW = 10;       // steps below round-off that must cut |f| by 10 %
+constexpr int MAXSHIFT = 30;              // diagonal shifts tried on an indefinite Hessian
+constexpr double EPS_ENERGY = 1.0e-8;     // as in min_cg.cpp: keeps the etol test meaningful near E = 0
+enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3 };
+}    // namespace
+
+struct MinSPHNewton::Solver {
+  Eigen::SparseMatrix<double> K;    // lower triangle of the reduced Hessian
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
+  Eigen::Index analysed_nnz = -1;
+};
+
+/* ---------------------------------------------------------------------- */
+
+MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
+    MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), nshift(0), indefinite(false),
+    nroundoff(0), roundoff_fnorm(0.0)
+{
+}
+
+/* ---------------------------------------------------------------------- */
+
+MinSPHNewton::~MinSPHNewton() = default;
+
+/* ---------------------------------------------------------------------- */
+
+void MinSPHNewton::init()
+{
+  MinLineSearch::init();
+  check_style();
+  solver->analysed_nnz = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void MinSPHNewton::check_style()
+{
+  pair = dynamic_cast<PairSPHICB *>(force->pair);
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton requires pair_style sph/icb (use min_style cg otherwise)");
+  if (!pair->has_energy())
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton needs an energy whose gradient is the force: use "
+               "pair_style sph/icb stress pk1 (the corotated stress has none; use min_style cg "
+               "with min_modify line forcezero)");
+  if (!atom->tag_enable)
+    error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires atom IDs");
+  if ((double) atom->natoms * domain->dimension > INT_MAX / 2)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton: {} atoms are too many for its single-rank sparse solve",
+               atom->natoms);
+  if (!pair->hessian_is_exact() && comm->me == 0)
+    error->warning(FLERR,
+                   "Min_style sph/newton: the Hessian of the hourglass-control energy is "
+                   "approximated by its spring part, so convergence is linear");
+}
+
+/* ---------------------------------------------------------------------- */
+
+int MinSPHNewton::iterate(int maxiter)
+{
+  if (nextra_global || nextra_atom)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton does not support fixes that add degrees of freedom "
+               "(fix box/relax and the like); use min_style cg");
+  if (atom->tag_consecutive() == 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton requires consecutive atom IDs 1..N: use 'reset_atoms id' "
+               "before minimize");
+
+  dim = domain->dimension;
+  find_constraints();
+  indefinite = false;
+  nroundoff = 0;
+  const int stop = newton_loop(maxiter);
+  int saddle = indefinite ? 1 : 0;
+  MPI_Bcast(&saddle, 1, MPI_INT, 0, world);
+  if (saddle && comm->me == 0)
+    error->warning(FLERR,
+                   "Min_style sph/newton: the Hessian at the last iterate has negative "
+                   "eigenvalues: this equilibrium is unstable (a saddle point, such as a straight "
+                   "bar beyond its buckling load)");
+  return stop;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int MinSPHNewton::newton_loop(int maxiter)
+{
+  const double escale = output->thermo->normflag ? 1.0 / atom->natoms : 1.0;
+
+  for (int iter = 0; iter < maxiter; iter++) {
+    if (timer->check_timeout(niter)) return TIMEOUT;
+    const bigint ntimestep = ++update->ntimestep;
+    niter++;
+
+    assemble_and_solve();
+    scatter_step();
+
+    double dot = 0.0, fdoth = 0.0;
+    for (int i = 0; i < nvec; i++) dot += fvec[i] * h[i];
+    MPI_Allreduce(&dot, &fdoth, 1, MPI_DOUBLE, MPI_SUM, world);
+    if (fdoth <= 0.0) return DOWNHILL;    // cannot happen for a positive definite matrix
+
+    eprevious = ecurrent;
+    const int fail = line_search(escale * fdoth);
+    if (fail) return fail;
+
+    if (neval >= update->max_eval) return MAXEVAL;
+    if (fabs(ecurrent - eprevious) <
+        update->etol * 0.5 * (fabs(ecurrent) + fabs(eprevious) + EPS_ENERGY))
+      return ETOL;
+    if (update->ftol > 0.0) {
+      double fdotf = 0.0;
+      if (normstyle == MAX)
+        fdotf = fnorm_max();
+      else if (normstyle == INF)
+        fdotf = fnorm_inf();
+      else
+        fdotf = fnorm_sqr();
+      if (fdotf < update->ftol * update->ftol) return FTOL;
+    }
+
+    if (output->next == ntimestep) {
+      timer->stamp();
+      output->write(ntimestep);
+      timer->stamp(Timer::OUTPUT);
+    }
+  }
+  return MAXITER;
+}
+
+/* ----------------------------------------------------------------------
+   a distinct non-zero test force for each atom ID and component
+------------------------------------------------------------------------- */
+
+double MinSPHNewton::probe_value(tagint id, int a) const
+{
+  return 1.0 + fmod(id * 0.6180339887498949 + a * 0.41421356237309515, 1.0);
+}
+
+/* ----------------------------------------------------------------------
+   which coordinates are free, held, or tied to another atom.  The fixes'
+   force post-processing is linear in the force for the fixes this solver
+   understands: fix setforce replaces components (held), fix sph/mirror
+   moves a mirror atom's force to its source with a minus sign, and fixes
+   like addforce or sph/contact add forces that do not depend on it.  So
+   the difference of the post-processed test force r and of zero tells all.
+   Anything else is refused rather than solved wrongly.
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::find_constraints()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const tagint *tag = atom->tag;
+  double **f = atom->f;
+
+  std::unordered_map<tagint, tagint> source_of;
+  std::unordered_map<tagint, std::vector<tagint>> mirrors_of;
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
+    for (const auto &[m, s] : dynamic_cast<FixSPHMirror *>(fix)->mirror_sources()) {
+      source_of[m] = s;
+      mirrors_of[s].push_back(m);
+    }
+
+  std::vector<double> with_probe(3 * nlocal), without(3 * nlocal);
+  for (int pass = 0; pass < 2; pass++) {
+    for (int i = 0; i < nall; i++)
+      for (int a = 0; a < 3; a++) f[i][a] = (pass == 0 && i < nlocal) ? probe_value(tag[i], a) : 0.0;
+    if (modify->n_min_post_force) modify->min_post_force(vflag);
+    auto &out = (pass == 0) ? with_probe : without;
+    for (int i = 0; i < nlocal; i++)
+      for (int a = 0; a < 3; a++) out[3 * i + a] = f[i][a];
+  }
+
+  const bigint ndof = atom->natoms * dim;
+  std::vector<int> status(ndof, UNKNOWN), status_all(ndof);
+  std::vector<tagint> source(ndof, 0), source_all(ndof);
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < dim; a++) {
+      const bigint dof = (tag[i] - 1) * dim + a;
+      const double change = with_probe[3 * i + a] - without[3 * i + a];
+      auto mirror = source_of.find(tag[i]);
+      double expected = probe_value(tag[i], a), size = fabs(expected);
+      if (mirror != source_of.end()) {
+        expected = size = 0.0;
+      } else if (mirrors_of.count(tag[i])) {
+        for (tagint m : mirrors_of[tag[i]]) {
+          expected -= probe_value(m, a);
+          size += probe_value(m, a);
+        }
+      }
+      if (mirror != source_of.end() && change == 0.0) {
+        status[dof] = MIRROR;
+        source[dof] = mirror->second;
+      } else if (change == 0.0) {
+        status[dof] = HELD;
+      } else if (fabs(change - expected) <= 1.0e-12 * size) {
+        status[dof] = FREE;
+      } else {
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Min_style sph/newton cannot model how the fixes change the force on atom {} "
+                   "(component {}): it understands fix setforce, fix sph/mirror and fixes that "
+                   "add forces independent of the force (addforce, sph/contact, ...); use "
+                   "min_style cg",
+                   tag[i], "xyz"[a]);
+      }
+    }
+  MPI_Allreduce(status.data(), status_all.data(), ndof, MPI_INT, MPI_SUM, world);
+  MPI_Allreduce(source.data(), source_all.data(), ndof, MPI_LMP_TAGINT, MPI_SUM, world);
+
+  // every rank numbers the free coordinates the same way
+  reduced.assign(ndof, -1);
+  dofsign.assign(ndof, 1);
+  nfree = 0;
+  for (bigint dof = 0; dof < ndof; dof++)
+    if (status_all[dof] == FREE) reduced[dof] = nfree++;
+  for (bigint dof = 0; dof < ndof; dof++)
+    if (status_all[dof] == MIRROR) {
+      const bigint src = (source_all[dof] - 1) * dim + dof % dim;
+      if (status_all[src] == MIRROR)
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Min_style sph/newton: mirror atom {} has a mirror atom as its source",
+                   dof / dim + 1);
+      reduced[dof] = reduced[src];
+      dofsign[dof] = -1;
+    } else if (status_all[dof] == UNKNOWN) {
+      error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}", dof / dim + 1);
+    }
+  if (nfree == 0)
+    error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
+  rhs.assign(nfree, 0.0);
+  step.assign(nfree, 0.0);
+  solver->analysed_nnz = -1;
+
+  // restore the real forces and whatever the fixes tallied
+  ecurrent = energy_force(0);
+  neval++;
+}
+
+/* ----------------------------------------------------------------------
+   reduced Hessian T^T K T and force T^T f on rank 0, factorised with a
+   diagonal shift where it is not positive definite; solve K step = f
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::assemble_and_solve()
+{
+  std::vector<Eigen::Triplet<double>> entries;
+  const int d = dim;
+  pair->hessian([&](tagint k, tagint l, const double (*block)[3]) {
+    for (int a = 0; a < d; a++) {
+      const bigint kdof = (k - 1) * d + a;
+      const int row = reduced[kdof];
+      if (row < 0) continue;
+      for (int b = 0; b < d; b++) {
+        const bigint ldof = (l - 1) * d + b;
+        const int col = reduced[ldof];
+        if (col < 0 || col > row) continue;
+        entries.emplace_back(row, col, dofsign[kdof] * dofsign[ldof] * block[a][b]);
+      }
+    }
+  });
+
+  // forces after the fixes are already T^T f on the free coordinates
+  std::vector<double> local(nfree, 0.0);
+  const tagint *tag = atom->tag;
+  double **f = atom->f;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int a = 0; a < dim; a++) {
+      const bigint dof = (tag[i] - 1) * dim + a;
+      if (reduced[dof] >= 0 && dofsign[dof] > 0) local[reduced[dof]] = f[i][a];
+    }
+  MPI_Reduce(local.data(), rhs.data(), nfree, MPI_DOUBLE, MPI_SUM, 0, world);
+
+  auto &K = solver->K;
+  if (comm->nprocs > 1) {
+    // sum this rank's duplicates first, then send the non-zeros to rank 0
+    Eigen::SparseMatrix<double> part(nfree, nfree);
+    part.setFromTriplets(entries.begin(), entries.end());
+    std::vector<int> rc;
+    std::vector<double> val;
+    rc.reserve(2 * part.nonZeros());
+    val.reserve(part.nonZeros());
+    for (int c = 0; c < part.outerSize(); c++)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(part, c); it; ++it) {
+        rc.push_back(it.row());
+        rc.push_back(it.col());
+        val.push_back(it.value());
+      }
+    int n = val.size();
+    std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
+    int total = 0;
+    if (comm->me == 0) {
+      for (int p = 0; p < comm->nprocs; p++) {
+        displs[p] = total;
+        if (counts[p] > INT_MAX / 2 - total)
+          error->one(FLERR, Error::NOLASTLINE, "Min_style sph/newton: Hessian too large to gather");
+        total += counts[p];
+      }
+    }
+    std::vector<double> allval(total);
+    MPI_Gatherv(val.data(), n, MPI_DOUBLE, allval.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                0, world);
+    std::vector<int> allrc(2 * total);
+    for (int p = 0; p < comm->nprocs; p++) {
+      counts[p] *= 2;
+      displs[p] *= 2;
+    }
+    n *= 2;
+    MPI_Gatherv(rc.data(), n, MPI_INT, allrc.data(), counts.data(), displs.data(), MPI_INT, 0,
+                world);
+    entries.clear();
+    for (int e = 0; e < total; e++) entries.emplace_back(allrc[2 * e], allrc[2 * e + 1], allval[e]);
+  }
+
+  if (comm->me == 0) {
+    // explicit diagonal entries keep the pattern fixed for the shifts
+    for (int r = 0; r < nfree; r++) entries.emplace_back(r, r, 0.0);
+    K.resize(nfree, nfree);
+    K.setFromTriplets(entries.begin(), entries.end());
+    if (K.nonZeros() != solver->analysed_nnz) {
+      solver->ldlt.analyzePattern(K);
+      solver->analysed_nnz = K.nonZeros();
+    }
+
+    // the plain Newton step whenever it points downhill, even on an indefinite
+    // Hessian: at a symmetric state (a bar beyond buckling) the force has no
+    // part along the negative-curvature modes, and the step converges
+    // quadratically to the symmetric equilibrium
+    auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
+    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
+    solver->ldlt.factorize(K);
+    bool usable = solver->ldlt.info() == Eigen::Success &&
+        (solver->ldlt.vectorD().array().abs() > 0.0).all();
+    if (usable) {
+      step_vec = solver->ldlt.solve(rhs_vec);
+      usable = step_vec.allFinite() && rhs_vec.dot(step_vec) > 0.0;
+      indefinite = (solver->ldlt.vectorD().array() < 0.0).any();
+    }
+
+    // otherwise shift the diagonal until the matrix is positive definite
+    const Eigen::VectorXd diagonal = K.diagonal();
+    const double scale = diagonal.cwiseAbs().maxCoeff();
+    double shift = 1.0e-10 * scale;
+    nshift = 0;
+    while (!usable) {
+      if (++nshift > MAXSHIFT)
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Min_style sph/newton: the Hessian stays singular after {} diagonal shifts",
+                   MAXSHIFT);
+      K.diagonal() = diagonal.array() + shift;
+      solver->ldlt.factorize(K);
+      usable = solver->ldlt.info() == Eigen::Success &&
+          (solver->ldlt.vectorD().array() > 0.0).all();
+      if (usable) step_vec = solver->ldlt.solve(rhs_vec);
+      shift *= 10.0;
+    }
+  }
+  MPI_Bcast(step.data(), nfree, MPI_DOUBLE, 0, world);
+}
+
+/* ----------------------------------------------------------------------
+   search direction h of the owned atoms from the free-coordinate step
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::scatter_step()
+{
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int a = 0; a < 3; a++) {
+      double value = 0.0;
+      if (a < dim) {
+        const bigint dof = (tag[i] - 1) * dim + a;
+        if (reduced[dof] >= 0) value = dofsign[dof] * step[reduced[dof]];
+      }
+      h[3 * i + a] = value;
+    }
+}
+
+/* ----------------------------------------------------------------------
+   the full Newton step, halved until the energy drops enough (Armijo).
+   Close to the minimum the energy change sinks below round-off: then any
+   step that lowers the force norm counts, as long as the norm keeps falling
+   by 10 % per ROUNDOFF_WINDOW such steps; when it does not, the force is as
+   small as round-off lets it be and the search stops.
+   fdoth = f.h in the units of the energy.
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::line_search(double fdoth)
+{
+  // start point and its box: reset_coords() unwraps periodic jumps against them
+  for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+  fix_minimize->store_box();
+  const double e0 = ecurrent;
+  const double fnorm0 = fnorm_sqr();
+  double alpha = 1.0;
+  for (int k = 0; k < MAXHALVING; k++) {
+    const double e = alpha_step(alpha, 1);
+    if (e <= e0 - ARMIJO * alpha * fdoth) {
+      nroundoff = 0;
+      ecurrent = e;
+      alpha_final = alpha;
+      return 0;
+    }
+    if (fabs(e - e0) <= ROUNDOFF * fabs(e0)) {
+      const double fnorm = fnorm_sqr();
+      if (nroundoff == 0) roundoff_fnorm = fnorm0;
+      const bool lower = fnorm < fnorm0;
+      const bool stalled = ++nroundoff >= ROUNDOFF_WINDOW && fnorm > 0.81 * roundoff_fnorm;
+      if (lower && !stalled) {
+        if (nroundoff >= ROUNDOFF_WINDOW) nroundoff = 0;
+        ecurrent = e;
+        alpha_final = alpha;
+        return 0;
+      }
+      ecurrent = alpha_step(0.0, 1);
+      alpha_final = 0.0;
+      if (comm->me == 0)
+        error->warning(FLERR,
+                       "Min_style sph/newton: the force norm {:.8g} is at its round-off floor; "
+                       "the force tolerance asks for less",
+                       sqrt(fnorm0));
+      return ZEROALPHA;
+    }
+    alpha *= 0.5;
+  }
+  ecurrent = alpha_step(0.0, 1);
+  alpha_final = 0.0;
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Min_style sph/newton: no energy decrease along the Newton step; is every "
+                   "external load in the energy ('fix_modify ID energy yes')?");
+  return ZEROALPHA;
+}
