@@ -162,6 +162,17 @@ def cmd_speed(args) -> int:
     return 0
 
 
+def cmd_statics(args) -> int:
+    """Time to the static beam by Newton, CG and damped dynamics."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = speed.statics(args.dx, [int(n) for n in args.np.split(",")], args.routes.split(","),
+                         progress=_progress)
+    (out / "statics.json").write_text(json.dumps([asdict(r) for r in rows], indent=1))
+    print(f"\nJSON (with the command of every row) in {out / 'statics.json'}")
+    return 0
+
+
 def cmd_figures(args) -> int:
     """The paper's beam figures: snapshots coloured by von Mises stress."""
     print(f"Beam under Fy = {args.load:g} N by damped dynamics, dx = {args.dx * 1e3:g} mm, "
@@ -233,6 +244,15 @@ def main(argv=None) -> int:
     spd.add_argument("--np", type=int, default=1, help="MPI ranks (1)")
     spd.add_argument("--out", default="speed-out", help="output folder (speed-out)")
     spd.set_defaults(func=cmd_speed)
+
+    sta = sub.add_parser("statics", help="time to the static beam (-250 N) by Newton, CG and "
+                                         "damped dynamics, against its converged answer")
+    sta.add_argument("--dx", type=float, default=0.001, help="particle spacing in m (0.001)")
+    sta.add_argument("--np", default="1,2", help="comma-separated MPI rank counts (1,2)")
+    sta.add_argument("--routes", default="newton,newton-loose,cg,dyn",
+                     help="comma-separated: " + ", ".join(speed.STATICS_ROUTES))
+    sta.add_argument("--out", default="speed-out", help="output folder (speed-out)")
+    sta.set_defaults(func=cmd_statics)
 
     fig = sub.add_parser("figures", help="beam snapshots coloured by von Mises stress (the "
                                          "paper's Figures 2-4)")

@@ -157,3 +157,59 @@ def run_all(dxs, nprocs: int, problems=PROBLEMS, methods=METHODS, progress=print
 
 def as_dicts(rows):
     return [asdict(r) for r in rows]
+
+
+# The static beam of the performance issue: Fy = -250 N, our accurate model
+STATICS_MODEL = {"Fy": -250.0, "stress": "pk1", "grad": "quadratic", "clamp": "mirror"}
+STATICS_ROUTES = {
+    "newton": {"route": "min", "solver": "newton"},
+    "newton-loose": {"route": "min", "solver": "newton", "ftol": 1.0e-3},
+    "cg": {"route": "min", "solver": "cg"},
+    # damped dynamics needs hourglass control; its equilibrium moves by ~2e-4
+    "dyn": {"route": "dyn", "hg": 0.05},
+}
+
+
+@dataclass
+class StaticsRow:
+    route: str
+    dx: float
+    nprocs: int
+    atoms: int
+    iterations: int          # minimiser iterations or time steps
+    wall: float              # s, whole run including start-up and partner build
+    loop: float              # s, LAMMPS's loop time of all runs and minimisations
+    dv: float
+    deviation: float         # dv relative to the converged Newton answer
+    error: float             # dv relative to the elastica at the same material point
+    command: str
+
+
+def statics(dx: float, nprocs_list, routes, progress=print) -> list[StaticsRow]:
+    """Time to the static beam by each route, against its own converged answer
+    (Newton to a force norm of 1e-10 of the load)."""
+    exact, _ = exact_answer("beam", STATICS_MODEL["Fy"], dx, "pk1")
+    progress(f"[esph] converged reference: Newton, ftol 1e-10, dx = {dx * 1e3:g} mm ...")
+    ref = run_mpi(BEAM, {**STATICS_MODEL, **STATICS_ROUTES["newton"], "dx": dx, "ftol": 1e-10},
+                  1).variables["tip_dv"]
+    print(f"Static beam, Fy = {STATICS_MODEL['Fy']:g} N, quadratic gradient, mirror clamp, pk1, "
+          f"dx = {dx * 1e3:g} mm; converged dv = {ref * 1e3:.6f} mm; machine: {machine()}")
+    print(f"{'route':<13} {'ranks':>5} {'atoms':>6} {'iter':>7} {'wall[s]':>8} {'loop[s]':>8} "
+          f"{'dv[mm]':>11} {'vs conv':>9} {'vs exact':>9}")
+    rows = []
+    for nprocs in nprocs_list:
+        for route in routes:
+            variables = {**STATICS_MODEL, **STATICS_ROUTES[route], "dx": dx}
+            cmd = (f"cd examples/beam && mpirun -np {nprocs} lmp -in in.beam " +
+                   " ".join(f"-var {k} {v}" for k, v in variables.items()))
+            progress(f"[esph] {route} on {nprocs} rank(s) ...")
+            out = run_mpi(BEAM, variables, nprocs, timeout=7200)
+            v = out.variables
+            row = StaticsRow(route, dx, nprocs, int(v["atoms"]), int(v["steps"]), out.wall,
+                             v.get("loop_total", float("nan")), v["tip_dv"],
+                             v["tip_dv"] / ref - 1.0, v["tip_dv"] / exact - 1.0, cmd)
+            print(f"{route:<13} {nprocs:5d} {row.atoms:6d} {row.iterations:7d} {row.wall:8.2f} "
+                  f"{row.loop:8.2f} {1e3 * row.dv:11.6f} {100 * row.deviation:+8.4f}% "
+                  f"{100 * row.error:+8.3f}%", flush=True)
+            rows.append(row)
+    return rows

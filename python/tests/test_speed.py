@@ -40,3 +40,19 @@ def test_damped_route_reports_that_it_reached_rest():
     static = speed.run_one("beam", -250.0, speed.METHODS[1], 0.005, 1)
     assert damped.status == "ok" and damped.residual < speed.AT_REST
     assert damped.value == pytest.approx(static.value, rel=1e-3)
+
+
+def test_statics_rows_against_the_converged_answer():
+    """Newton reaches the converged answer in a handful of iterations, CG in
+    thousands; both within 1e-6 of it (their force tolerance is 1e-7 of the
+    load), and a loose Newton run (1e-3) within 0.1 %."""
+    rows = {r.route: r for r in speed.statics(0.005, [1], ["newton", "newton-loose", "cg"],
+                                              progress=lambda _: None)}
+    assert rows["newton"].atoms == (40 + 3) * 4
+    assert rows["newton"].iterations <= 15
+    assert rows["cg"].iterations > 50 * rows["newton"].iterations
+    assert abs(rows["newton"].deviation) < 1e-8
+    assert abs(rows["cg"].deviation) < 1e-6
+    assert abs(rows["newton-loose"].deviation) < 1e-3
+    # quadratic gradient and mirror clamp at 5 mm: +5 % (README, Table 2)
+    assert 0.03 < rows["newton"].error < 0.07

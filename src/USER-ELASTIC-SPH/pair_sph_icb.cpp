@@ -55,7 +55,8 @@ enum { COMM_DEFGRAD, COMM_QSTRESS };
 /* ---------------------------------------------------------------------- */
 
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
-    PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr)
+    PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
+    gcompact(nullptr)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   measure = COROTATED;
@@ -75,6 +76,7 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(defgrad);
   memory->destroy(qstress);
   memory->destroy(jlocal);
+  memory->destroy(gcompact);
 }
 
 /* ----------------------------------------------------------------------
@@ -147,9 +149,11 @@ void PairSPHICB::compute(int eflag, int vflag)
   grow_work();
   refresh_partner_indices();
 
+  const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
   for (int i = 0; i < nlocal; i++) {
-    const double e = stress_pass(i, &jlocal[i * mp]);
+    const double e = two_d ? stress_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4])
+                           : stress_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
     if (eflag_global) eng_vdwl += e;
     if (eflag_atom) eatom[i] += e;
   }
@@ -167,7 +171,12 @@ void PairSPHICB::compute(int eflag, int vflag)
   comm_what = COMM_QSTRESS;
   comm->forward_comm(this);
 
-  for (int i = 0; i < nlocal; i++) force_pass(i, &jlocal[i * mp]);
+  for (int i = 0; i < nlocal; i++) {
+    if (two_d)
+      force_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4]);
+    else
+      force_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -185,7 +194,9 @@ void PairSPHICB::grow_work()
   if (need > maxlocal) {
     maxlocal = need;
     memory->destroy(jlocal);
+    memory->destroy(gcompact);
     memory->create(jlocal, maxlocal, "pair:jlocal");
+    memory->create(gcompact, 6 * maxlocal, "pair:gcompact");
     jlocal_builds = -1;
   }
 }
@@ -194,7 +205,10 @@ void PairSPHICB::grow_work()
    local index of every reference partner.  Local indices only change when
    LAMMPS rebuilds its neighbor lists (atoms migrate, ghosts are recreated,
    atoms are sorted), so the tag lookups are done once per rebuild; that is
-   also when a partner can drop out of the ghost cut-off.
+   also when a partner can drop out of the ghost cut-off.  The kernel
+   gradients g_ij and g_ji that the two hot sweeps read are copied next to
+   them, d doubles each: a quarter to a half of the bytes of the full
+   partner record, which is what the sweeps stream through per step.
 ------------------------------------------------------------------------- */
 
 void PairSPHICB::refresh_partner_indices()
@@ -202,6 +216,7 @@ void PairSPHICB::refresh_partner_indices()
   const int nlocal = atom->nlocal;
   if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal) return;
   const int mp = partners->maxpartner;
+  const int dim = domain->dimension;
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < partners->npartner[i]; k++) {
       const int j = partners->find_partner(i, k);
@@ -212,6 +227,12 @@ void PairSPHICB::refresh_partner_indices()
                    "the largest stretch, plus the neighbor skin)",
                    partners->partner[i][k], atom->tag[i], update->ntimestep);
       jlocal[i * mp + k] = j;
+      const double *pd = &partners->pdata[i][k * FixSPHPartners::NPDATA];
+      double *gc = &gcompact[(i * mp + k) * 2 * dim];
+      for (int a = 0; a < dim; a++) {
+        gc[a] = pd[FixSPHPartners::GIJ + a];
+        gc[dim + a] = pd[FixSPHPartners::GJI + a];
+      }
     }
   jlocal_builds = neighbor->ncalls;
   jlocal_nlocal = nlocal;
@@ -222,24 +243,21 @@ void PairSPHICB::refresh_partner_indices()
    returns its strain energy V_i psi(E_i)
 ------------------------------------------------------------------------- */
 
-double PairSPHICB::stress_pass(int i, const int *jl)
+template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const double *gc)
 {
   const double *const *const x = atom->x;
   const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
 
   double F[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
   for (int k = 0; k < n; k++) {
     const int j = jl[k];
-    const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
-    const double dx[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) F[a][b] += dx[a] * g[b];
+    const double *g = &gc[k * 2 * DIM];
+    for (int a = 0; a < DIM; a++) {
+      const double dxa = x[j][a] - x[i][a];
+      for (int b = 0; b < DIM; b++) F[a][b] += dxa * g[b];
+    }
   }
-  if (domain->dimension == 2) {
-    F[0][2] = F[1][2] = F[2][0] = F[2][1] = 0.0;
-    F[2][2] = 1.0;
-  }
+  if (DIM == 2) F[2][2] = 1.0;
 
   const double detF = SPHElastic::det3(F);
   if (!std::isfinite(detF))
@@ -345,22 +363,27 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
 
 /* ---------------------------------------------------------------------- */
 
-void PairSPHICB::force_pass(int i, const int *jl)
+template <int DIM> void PairSPHICB::force_pass(int i, const int *jl, const double *gc)
 {
   const double *const *const x = atom->x;
   const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
   const double *Qi = qstress[i];
 
+  // in 2d the z row of Q and the z components of g vanish
   for (int k = 0; k < n; k++) {
     const int j = jl[k];
-    const double *gij = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
-    const double *gji = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GJI];
+    const double *gij = &gc[k * 2 * DIM];
+    const double *gji = gij + DIM;
     const double *Qj = qstress[j];
-    double fij[3];
-    for (int a = 0; a < 3; a++)
-      fij[a] = (Qi[3 * a] * gij[0] + Qi[3 * a + 1] * gij[1] + Qi[3 * a + 2] * gij[2]) -
-          (Qj[3 * a] * gji[0] + Qj[3 * a + 1] * gji[1] + Qj[3 * a + 2] * gji[2]);
+    double fij[3] = {0.0, 0.0, 0.0};
+    for (int a = 0; a < DIM; a++) {
+      double qi = 0.0, qj = 0.0;
+      for (int b = 0; b < DIM; b++) {
+        qi += Qi[3 * a + b] * gij[b];
+        qj += Qj[3 * a + b] * gji[b];
+      }
+      fij[a] = qi - qj;
+    }
     const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
     add_pair_force(i, fij, del);
   }
@@ -538,5 +561,5 @@ void PairSPHICB::unpack_forward_comm(int n, int first, double *buf)
 double PairSPHICB::memory_usage()
 {
   return PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
-      (double) maxlocal * sizeof(int);
+      (double) maxlocal * (sizeof(int) + 6 * sizeof(double));
 }

@@ -59,6 +59,7 @@ class PairSPHICB : public PairSPHElastic {
   double **defgrad;              // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;              // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
   int *jlocal;                   // local index of each partner, since the last rebuild
+  double *gcompact;              // g_ij then g_ji of each partner, d doubles each
   int nmax_work, maxlocal;
   bigint jlocal_builds;          // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
@@ -66,9 +67,9 @@ class PairSPHICB : public PairSPHElastic {
   int parse_keyword(int, int, char **) override;
   const char *style_name() const override { return "sph/icb"; }
   void refresh_partner_indices();
-  double stress_pass(int i, const int *jl);
+  template <int DIM> double stress_pass(int i, const int *jl, const double *gc);
   double hourglass_pass(int i, const int *jl);
-  void force_pass(int i, const int *jl);
+  template <int DIM> void force_pass(int i, const int *jl, const double *gc);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
   void hourglass_hessian(int i, const int *jl, const HessianSink &) const;
