@@ -24,6 +24,8 @@ set group all mol 1
 
 ICB = "pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\n"
 
+NEWTON_MIN = "\nfix hold all setforce 0 0 0\nminimize 0 1e-8 100 1000\n"
+
 CASES = [
     ("pair_style sph/icb 0.0012 colour red", "Unknown pair_style sph/icb keyword: colour"),
     ("pair_style sph/icb -1", "smoothing length h must be > 0"),
@@ -86,6 +88,18 @@ CASES = [
     ("reset_sph_reference", "expected a group ID"),
     ("reset_sph_reference nogroup", "Could not find reset_sph_reference group ID nogroup"),
     (ICB + "run 0\nreset_sph_reference all", "the reference partners were already built"),
+    # min_style sph/newton
+    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nfix r all sph/rotation\n"
+     "min_style sph/newton" + NEWTON_MIN, "needs an energy whose gradient is the force"),
+    ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + NEWTON_MIN,
+     "requires pair_style sph/icb"),
+    (ICB + "min_style sph/newton\nfix a all aveforce 0 0 0\nminimize 0 1e-8 100 1000",
+     "cannot model how the fixes change the force on atom"),
+    (ICB + "min_style sph/newton\ngroup odd id 1:24:2\ndelete_atoms group odd compress no"
+     + NEWTON_MIN,
+     "requires consecutive atom IDs 1..N"),
+    (ICB + "min_style sph/newton\nfix h all setforce 0 0 0\nminimize 0 1e-8 100 1000",
+     "every coordinate is held fixed"),
 ]
 
 

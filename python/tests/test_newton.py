@@ -10,7 +10,6 @@ import pytest
 
 from esph import validate
 from esph.runner import BEAM, TRUSS, run_mpi, run_script
-from conftest import make_lammps
 from test_errors import BASE, ICB
 
 LOAD = -250.0
@@ -86,30 +85,6 @@ def test_hourglass_control_converges_with_a_warning(tmp_path):
     cg, _ = newton_run(tmp_path, {"grad": "quadratic", "clamp": "mirror", "hg": 0.05,
                                   "solver": "cg", "thermo_every": 1000}, "cg")
     assert newton.variables["tip_dv"] == pytest.approx(cg.variables["tip_dv"], rel=1e-6)
-
-
-MIN = "\nfix hold all setforce 0 0 0\nminimize 0 1e-8 100 1000\n"
-
-
-@pytest.mark.parametrize("commands,message", [
-    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nfix r all sph/rotation\n"
-     "min_style sph/newton" + MIN, "needs an energy whose gradient is the force"),
-    ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + MIN,
-     "requires pair_style sph/icb"),
-    (ICB + "min_style sph/newton\nfix a all aveforce 0 0 0\nminimize 0 1e-8 100 1000",
-     "cannot model how the fixes change the force on atom"),
-    (ICB + "min_style sph/newton\ngroup odd id 1:24:2\ndelete_atoms group odd compress no" + MIN,
-     "requires consecutive atom IDs 1..N"),
-    (ICB + "min_style sph/newton\nfix h all setforce 0 0 0\nminimize 0 1e-8 100 1000",
-     "every coordinate is held fixed"),
-])
-def test_bad_newton_input_names_the_problem(commands, message):
-    lmp = make_lammps()
-    lmp.commands_string(BASE)
-    with pytest.raises(Exception) as err:
-        lmp.commands_string(commands)
-    assert message in str(err.value)
-    lmp.close()
 
 
 def test_load_outside_the_energy_is_reported(tmp_path):
