@@ -141,6 +141,89 @@ def elastica_quadrature(alpha: float) -> tuple[float, float]:
     return xlen - 1.0, ylen
 
 
+def timoshenko_shear_coefficient(nu: float) -> float:
+    """Cowper's shear coefficient of a rectangular section, 5/6 at nu = 0."""
+    return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
+
+
+# Fibre law P/E = e + c2 e^2 + c3 e^3 of a fibre of engineering strain e
+# (nominal stress P) for each stress measure of pair_style sph/icb at nu = 0:
+# pk1 is Green strain + SVK, P = F S; corotated is the paper's P = R S = S.
+FIBRE_LAWS = {"linear": (0.0, 0.0), "pk1": (1.5, 0.5), "corotated": (0.5, 0.0)}
+
+
+def section_strains(beam: Beam, axial_force: float, moment: float,
+                    model: str) -> tuple[float, float]:
+    """Axis strain eps and curvature kappa of a section of plane fibres,
+    e(y) = eps - y kappa, carrying the axial force N and the moment M."""
+    c2, c3 = FIBRE_LAWS[model]
+    area, inertia = beam.H * beam.t, beam.inertia
+    fourth = beam.t * beam.H ** 5 / 80.0          # integral of y^4 over the section
+    eps = axial_force / (beam.E * area)
+    kappa = moment / (beam.E * beam.inertia)
+    # N/E = A eps + c2 (A eps^2 + I k^2) + c3 (A eps^3 + 3 eps I k^2)
+    # M/E = I k + 2 c2 eps I k + c3 (3 eps^2 I k + J k^3): fixed point on the
+    # linear terms; the nonlinear ones are O(strain) smaller
+    for _ in range(60):
+        eps_new = (axial_force / beam.E - c2 * (area * eps ** 2 + inertia * kappa ** 2)
+                   - c3 * (area * eps ** 3 + 3.0 * eps * inertia * kappa ** 2)) / area
+        kappa_new = (moment / beam.E - 2.0 * c2 * eps * inertia * kappa
+                     - c3 * (3.0 * eps ** 2 * inertia * kappa + fourth * kappa ** 3)) / inertia
+        done = abs(eps_new - eps) <= 1e-15 and abs(kappa_new - kappa) * beam.H <= 1e-15
+        eps, kappa = eps_new, kappa_new
+        if done:
+            break
+    return eps, kappa
+
+
+def shear_beam_tip(beam: Beam, load: float, a: float | None = None, nu: float = 0.0,
+                   model: str = "pk1") -> tuple[float, float]:
+    """(dh, dv) in m of the loaded end of a cantilever of length a (default L)
+    under a dead transverse load, for Reissner's geometrically exact beam:
+    the elastica plus shear (kappa G A) and axial compliance, with plane
+    sections of fibres of the stress measure `model` (FIBRE_LAWS).
+
+    This is the limit a 2D plane-stress continuum of the beam's aspect ratio
+    tends to, not the elastica: at H/L = 0.1 it is 3 E I/(kappa G A L^2) =
+    0.60 % softer for small loads (a plane-stress Q9 model of the clamped
+    beam gives 0.603 %, studies/beam_error/out_continuum.txt).  With a = L -
+    dx/2 it is also loaded where the particle scheme puts the load, the
+    centroid of the last column; the beam beyond a carries nothing.
+
+    Equations, arc length s of the reference axis, section force n = (0, F):
+      theta' = kappa(N, M),   M' = -F x',   M(a) = 0,
+      x' = (1 + eps) cos(theta) - gamma sin(theta),
+      y' = (1 + eps) sin(theta) + gamma cos(theta),
+      N = F sin(theta),   eps = eps(N, M),   gamma = F cos(theta)/(kappa_s G A),
+    solved by shooting on the clamp moment M(0)."""
+    from scipy.integrate import solve_ivp
+
+    a = beam.L if a is None else a
+    shear = (timoshenko_shear_coefficient(nu) * beam.E / (2.0 * (1.0 + nu))
+             * beam.H * beam.t)
+    if load == 0.0:
+        return 0.0, 0.0
+
+    def rhs(_, state):
+        theta, moment, _, _ = state
+        c, s = math.cos(theta), math.sin(theta)
+        eps, kappa = section_strains(beam, load * s, moment, model)
+        gamma = load * c / shear
+        dx_ds = (1.0 + eps) * c - gamma * s
+        return [kappa, -load * dx_ds, dx_ds, (1.0 + eps) * s + gamma * c]
+
+    def end_state(moment0):
+        sol = solve_ivp(rhs, (0.0, a), [0.0, moment0, 0.0, 0.0], rtol=1e-12, atol=1e-16,
+                        method="DOP853")
+        return sol.y[:, -1]
+
+    # M(0) = F x(a) and the end moves toward the clamp: M(0) lies between 0 and 1.1 F a
+    moment0 = optimize.brentq(lambda m0: end_state(m0)[1], 0.0, 1.1 * load * a,
+                              xtol=1e-14 * abs(load) * a, rtol=1e-14)
+    _, _, x_end, y_end = end_state(moment0)
+    return x_end - a, y_end
+
+
 # Truss (section 3.2): axial load on a bar of Green strain + SVK material
 # Table 2 (beam, ICB): relative errors in % of the tip (dv, dh) per dx in mm
 PAPER_BEAM_CONVERGENCE = {

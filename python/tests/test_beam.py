@@ -48,6 +48,47 @@ def test_paper_asymptotic_route():
                        theory.elastica_point(alpha), atol=1e-12)
 
 
+def test_shear_beam_reduces_to_the_known_limits():
+    """theory.shear_beam_tip: small loads give Timoshenko's linear answer
+    F a^3/(3 E I) + F a/(kappa G A); a slender beam at alpha = 1 gives
+    Bisshopp-Drucker's elastica; the beam of the paper is 0.60 % softer than
+    the elastica at small loads, as a plane-stress Q9 model of the clamped
+    continuum found (0.603 %, studies/beam_error/out_continuum.txt)."""
+    beam = theory.Beam()
+    load, a = -1e-3, 0.15
+    shear = theory.timoshenko_shear_coefficient(0.0) * beam.E / 2 * beam.H * beam.t
+    linear = load * a ** 3 / (3 * beam.E * beam.inertia) + load * a / shear
+    assert theory.shear_beam_tip(beam, load, a)[1] == pytest.approx(linear, rel=1e-9)
+    assert theory.timoshenko_shear_coefficient(0.0) == pytest.approx(5 / 6)
+    # H/L = 0.001: shear and stretch change the elastica by H^2/(2 kappa L^2) = 6e-7
+    slender = theory.Beam(H=0.0002)
+    unit_alpha = -slender.E * slender.inertia / slender.L ** 2
+    dh, dv = theory.shear_beam_tip(slender, unit_alpha, model="linear")
+    assert -dv / slender.L == pytest.approx(0.30172, abs=5e-6)
+    assert dh / slender.L == pytest.approx(-0.05643, abs=5e-6)
+    softer = theory.shear_beam_tip(beam, -10.0)[1] / theory.beam_tip(beam, -10.0)[1] - 1
+    assert softer == pytest.approx(0.006, abs=5e-5)
+
+
+@pytest.mark.parametrize("model", ["pk1", "corotated"])
+def test_section_strains_carry_the_section_forces(model):
+    """The axis strain and curvature of theory.section_strains, put back into
+    the fibre law and integrated over the section by Gauss quadrature, give
+    the axial force and moment asked for -- at strains of several percent,
+    where the fibre law is far from linear."""
+    beam = theory.Beam()
+    c2, c3 = theory.FIBRE_LAWS[model]
+    axial, moment = 2.0e4, -60.0
+    eps, kappa = theory.section_strains(beam, axial, moment, model)
+    assert abs(kappa) * beam.H / 2 > 0.03
+    y, w = np.polynomial.legendre.leggauss(8)
+    y, w = 0.5 * beam.H * y, 0.5 * beam.H * w * beam.t
+    strain = eps - y * kappa
+    stress = beam.E * (strain + c2 * strain ** 2 + c3 * strain ** 3)
+    assert np.sum(w * stress) == pytest.approx(axial, rel=1e-10)
+    assert -np.sum(w * stress * y) == pytest.approx(moment, rel=1e-10)
+
+
 def test_coarse_beam_deflection_against_elastica():
     """dx = 4 mm, 5 rows through the thickness.  The convergence study (README,
     `esph validate --dx ...`) measured dv errors of +22 % (4 mm), +6 to +8 %
