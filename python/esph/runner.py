@@ -71,6 +71,7 @@ def run_script(script: Path, variables: dict, read: list[str], log: Path | None 
 
 _PRINT_RE = re.compile(r"^RESULT (\S+) (\S+)$", re.M)
 _LOOP_RE = re.compile(r"^Loop time of (\S+) on", re.M)
+_ERROR_RE = re.compile(r"^ERROR.*$", re.M)
 
 
 # variables an MPI library puts into the environment of a process it started
@@ -106,7 +107,10 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
         shutil.rmtree(session, ignore_errors=True)
     out = RunResult(wall=time.perf_counter() - start, log=proc.stdout + proc.stderr)
     if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{out.log[-3000:]}")
+        # LAMMPS's own ERROR line first: MPI's abort text after it can be long
+        errors = "\n".join(_ERROR_RE.findall(out.log))
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{errors}\n"
+                           f"{out.log[-3000:]}")
     out.variables = {m.group(1): float(m.group(2)) for m in _PRINT_RE.finditer(proc.stdout)}
     loops = _LOOP_RE.findall(proc.stdout)
     if loops:   # LAMMPS's own timing of the last run or minimize, and of all of them
