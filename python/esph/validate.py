@@ -235,7 +235,8 @@ def table4(run: Runner, variant: str, loads, dxs) -> list[Row]:
         for load in loads:
             e, p = table[load]
             paper = theory.PAPER_TRUSS_CONVERGENCE.get(load, {}).get(dx * 1e3, math.nan)
-            cells.append(f"{100 * e[k]:9.3f}% {p[k]:5.2f} {paper:5.2f}%")
+            paper_txt = f"{paper:5.2f}%" if paper == paper else f"{'-':>6}"
+            cells.append(f"{100 * e[k]:9.3f}% {p[k]:5.2f} {paper_txt}")
         print(f"{dx * 1e3:6g} | " + " | ".join(cells), flush=True)
     return rows
 
