@@ -189,7 +189,7 @@ def main(argv=None) -> int:
     val = sub.add_parser("validate", help="the paper's Tables 1-4 for ICB against exact theory")
     val.add_argument("--full", action="store_true",
                      help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
-                          "(hours); default: quick (minutes)")
+                          "(about 70 min on one core); default: quick (about 1 min)")
     val.add_argument("--tables", default="1234m",
                      help="which tables: 1 2 3 4 (ICB), m (failure matrix, with --full)")
     val.add_argument("--dx", type=float, default=0.002,
