@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 import os
 import platform
@@ -18,6 +19,18 @@ from .runner import BEAM, BEAM_TLSPH, run_mpi
 
 def _progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
+
+
+def write_rows(path: Path, rows: list[dict]) -> None:
+    """The rows as JSON at `path` and as CSV beside it (same name, .csv), one
+    column per field of any row, for a spreadsheet or pandas."""
+    path = Path(path)
+    path.write_text(json.dumps(rows, indent=1))
+    fields = list(dict.fromkeys(key for row in rows for key in row))
+    with open(path.with_suffix(".csv"), "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields, restval="")
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def cmd_validate(args) -> int:
@@ -43,9 +56,9 @@ def cmd_validate(args) -> int:
         from . import matrix
         data += [asdict(r) for r in matrix.beam_table(args.dx, args.np, 10.0, progress=_progress)]
         data += [asdict(r) for r in matrix.truss_table(args.dx, args.np, 10.0, progress=_progress)]
-    (out / "validate.json").write_text(json.dumps(data, indent=1))
+    write_rows(out / "validate.json", data)
     if args.json:
-        Path(args.json).write_text(json.dumps(data, indent=1))
+        write_rows(Path(args.json), data)
     if any(r.table in "24" for r in rows):
         validate.plot_convergence(rows, out / "convergence.png")
         print(f"\nconvergence plot: {out / 'convergence.png'}")
@@ -97,7 +110,7 @@ def cmd_matrix(args) -> int:
     if args.problem in ("truss", "both"):
         rows += matrix.truss_table(args.dx, args.np, args.tdamp, progress=_progress)
     if args.json:
-        Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=1))
+        write_rows(Path(args.json), [asdict(r) for r in rows])
     return 0
 
 
@@ -140,7 +153,7 @@ def cmd_rings(args) -> int:
           "/ initial kinetic energy; dE/E0 = largest total-energy error; |p| = largest total "
           "momentum / sum m|v0|; mirror = largest distance of a ring-1 particle from the "
           "mirror image of ring 2, over the snapshots")
-    (out / "rings.json").write_text(json.dumps(rows, indent=1))
+    write_rows(out / "rings.json", rows)
     return 0
 
 
@@ -153,12 +166,12 @@ def cmd_speed(args) -> int:
     methods = [m for k, m in enumerate(speed.METHODS) if str(k) in args.methods]
     truss_dxs = [float(x) for x in args.truss_dx.split(",")]
     rows = speed.run_all(dxs, args.np, problems, methods, progress=_progress, truss_dxs=truss_dxs)
-    (out / "speed.json").write_text(json.dumps(speed.as_dicts(rows), indent=1))
+    write_rows(out / "speed.json", speed.as_dicts(rows))
     with open(out / "commands.txt", "w") as fh:
         fh.write(f"# {speed.machine()}\n")
         fh.writelines(f"{r.command}\n" for r in rows)
     speed.plot(rows, out / "speed_vs_error.png")
-    print(f"\nJSON, commands and the log-log plot of error against wall time in {out}")
+    print(f"\nJSON, CSV, commands and the log-log plot of error against wall time in {out}")
     return 0
 
 
@@ -168,8 +181,8 @@ def cmd_statics(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     rows = speed.statics(args.dx, [int(n) for n in args.np.split(",")], args.routes.split(","),
                          progress=_progress)
-    (out / "statics.json").write_text(json.dumps([asdict(r) for r in rows], indent=1))
-    print(f"\nJSON (with the command of every row) in {out / 'statics.json'}")
+    write_rows(out / "statics.json", [asdict(r) for r in rows])
+    print(f"\nJSON and CSV (with the command of every row) in {out / 'statics.json'}, .csv")
     return 0
 
 

@@ -1,6 +1,7 @@
 """The command line: python -m esph validate prints the beam table."""
 from __future__ import annotations
 
+import csv
 import json
 import subprocess
 import sys
@@ -30,6 +31,11 @@ def test_validate_prints_a_row_per_load_and_variant(tmp_path):
     # quadratic gradient both remove stiffness error of the coarse beam
     assert rows[0]["exact"] == rows[1]["exact"]
     assert 0.0 < rows[1]["error"] < rows[0]["error"]
+    # the same rows as CSV beside the JSON, numbers to full precision
+    with open(out.with_suffix(".csv"), newline="") as fh:
+        table = list(csv.DictReader(fh))
+    assert [r["variant"] for r in table] == ["linear/fixed", "quadratic/mirror"]
+    assert [float(r["dv"]) for r in table] == [r["dv"] for r in rows]
 
 
 def test_observed_order_of_convergence():
