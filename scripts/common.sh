@@ -38,4 +38,10 @@ esph_env() {
   export LAMMPS_SOURCE_DIR ESPH_BUILD ESPH_LMP ESPH_ROOT
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+  # OpenBLAS (under CHOLMOD in min_style sph/newton) falls back to generic
+  # SSE3 kernels when a virtual machine hides the CPU model; with AVX2 the
+  # Haswell kernels are safe and make the factorisation about 1.4x faster
+  if [ -z "${OPENBLAS_CORETYPE:-}" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+    export OPENBLAS_CORETYPE=Haswell
+  fi
 }

@@ -100,6 +100,10 @@ CASES = [
      "requires consecutive atom IDs 1..N"),
     (ICB + "min_style sph/newton\nfix h all setforce 0 0 0\nminimize 0 1e-8 100 1000",
      "every coordinate is held fixed"),
+    (ICB + "min_style sph/newton\nmin_modify factor qr",
+     "Unknown min_modify factor qr: use auto, cholmod or ldlt"),
+    (ICB + "min_style sph/newton\nmin_modify factor",
+     "Illegal min_modify factor command: missing argument(s)"),
 ]
 
 

@@ -5,10 +5,12 @@ tests the Hessian; the equilibrium itself is checked against CG."""
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
 
 from esph import validate
+from esph.paths import lmp_binary
 from esph.runner import BEAM, TRUSS, run_mpi, run_script
 from test_errors import BASE, ICB
 
@@ -47,6 +49,31 @@ def test_newton_converges_quadratically_to_the_cg_equilibrium(tmp_path, grad, cl
     assert cg.steps > 20 * newton.steps
     for key in ("tip_dh", "tip_dv"):
         assert newton.variables[key] == pytest.approx(cg.variables[key], rel=2e-6)
+
+
+def cholmod_built() -> bool:
+    """Whether the LAMMPS under test linked SuiteSparse CHOLMOD: its build
+    tree's CMake cache says (scripts/setup.sh installs CHOLMOD)."""
+    cache = Path(lmp_binary()).resolve().parent / "CMakeCache.txt"
+    if not cache.exists():
+        return False
+    found = re.search(r"^CHOLMOD_LIBRARY:FILEPATH=(.*)$", cache.read_text(), re.M)
+    return bool(found) and not found.group(1).endswith("NOTFOUND")
+
+
+@pytest.mark.parametrize("factor", ["auto", "ldlt"])
+def test_both_factorisations_reach_the_same_equilibrium(tmp_path, factor):
+    """min_modify factor: CHOLMOD's supernodal LL^T (the default where LAMMPS
+    has it) and Eigen's LDL^T give the same Newton iterates, so the same
+    number of steps and the same tip to round-off; the log names the one used."""
+    variables = {"grad": "quadratic", "clamp": "mirror", "solver": "newton", "ftol": 1e-10}
+    ref, _ = newton_run(tmp_path, {**variables, "factor": "ldlt"}, "ref")
+    out, log = newton_run(tmp_path, {**variables, "factor": factor})
+    used = "CHOLMOD supernodal" if factor == "auto" and cholmod_built() else "Eigen SimplicialLDLT"
+    assert f"factorised by {used}" in log
+    assert out.steps == ref.steps
+    for key in ("tip_dh", "tip_dv"):
+        assert out.variables[key] == pytest.approx(ref.variables[key], rel=1e-10)
 
 
 def test_newton_on_ranks_agrees_with_serial():

@@ -38,9 +38,13 @@
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#ifdef ESPH_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 
 #include <climits>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <unordered_map>
 
@@ -54,18 +58,71 @@ constexpr int ROUNDOFF_WINDOW = 10;       // steps below round-off that must cut
 constexpr int MAXSHIFT = 30;              // diagonal shifts tried on an indefinite Hessian
 constexpr double EPS_ENERGY = 1.0e-8;     // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3 };
+enum FactorChoice { AUTO, CHOLMOD, LDLT };
+#ifdef ESPH_HAVE_CHOLMOD
+constexpr bool HAVE_CHOLMOD = true;
+#else
+constexpr bool HAVE_CHOLMOD = false;
+#endif
 }    // namespace
 
 struct MinSPHNewton::Solver {
   Eigen::SparseMatrix<double> K;    // lower triangle of the reduced Hessian
+  // Hessian entries before summation, kept between iterations: allocating
+  // them afresh each time cost as much as a tenth of a large solve
+  std::vector<Eigen::Triplet<double>> entries;
+  // LDL^T: also factorises indefinite matrices, and tells their inertia
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
   Eigen::Index analysed_nnz = -1;
+#ifdef ESPH_HAVE_CHOLMOD
+  // supernodal LL^T (BLAS-3 on dense blocks): several times faster on large
+  // Hessians, but only for positive definite ones, the usual case
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  Eigen::Index llt_nnz = -1;
+#endif
+
+  void forget_pattern()
+  {
+    analysed_nnz = -1;
+#ifdef ESPH_HAVE_CHOLMOD
+    llt_nnz = -1;
+#endif
+  }
+
+  static const char *name(bool cholmod)
+  {
+    return cholmod ? "CHOLMOD supernodal LL^T (Eigen LDL^T where not positive definite)"
+                   : "Eigen SimplicialLDLT";
+  }
+
+  // the Newton step by the supernodal Cholesky factorisation, false if K is
+  // not positive definite (or the step not downhill) or CHOLMOD is absent
+  bool positive_definite_step(const Eigen::Map<const Eigen::VectorXd> &f,
+                              Eigen::Map<Eigen::VectorXd> &x)
+  {
+#ifdef ESPH_HAVE_CHOLMOD
+    if (K.nonZeros() != llt_nnz) {
+      llt.cholmod().print = 0;    // an indefinite matrix is expected, not an error to print
+      llt.analyzePattern(K);
+      llt_nnz = K.nonZeros();
+    }
+    llt.factorize(K);
+    if (llt.info() != Eigen::Success) return false;
+    x = llt.solve(f);
+    return x.allFinite() && f.dot(x) > 0.0;
+#else
+    (void) f;
+    (void) x;
+    return false;
+#endif
+  }
 };
 
 /* ---------------------------------------------------------------------- */
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
-    MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), nshift(0), indefinite(false),
+    MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), factor(AUTO),
+    nshift(0), indefinite(false),
     nroundoff(0), roundoff_fnorm(0.0)
 {
 }
@@ -80,7 +137,28 @@ void MinSPHNewton::init()
 {
   MinLineSearch::init();
   check_style();
-  solver->analysed_nnz = -1;
+  solver->forget_pattern();
+}
+
+/* ---------------------------------------------------------------------- */
+
+int MinSPHNewton::modify_param(int narg, char **arg)
+{
+  if (strcmp(arg[0], "factor") != 0) return 0;
+  if (narg < 2) utils::missing_cmd_args(FLERR, "min_modify factor", error);
+  if (strcmp(arg[1], "auto") == 0)
+    factor = AUTO;
+  else if (strcmp(arg[1], "ldlt") == 0)
+    factor = LDLT;
+  else if (strcmp(arg[1], "cholmod") == 0)
+    factor = CHOLMOD;
+  else
+    error->all(FLERR, "Unknown min_modify factor {}: use auto, cholmod or ldlt", arg[1]);
+  if (factor == CHOLMOD && !HAVE_CHOLMOD)
+    error->all(FLERR,
+               "min_modify factor cholmod: this LAMMPS was built without SuiteSparse CHOLMOD "
+               "(install it, e.g. Debian's libsuitesparse-dev, and rebuild; or use factor auto)");
+  return 2;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -285,7 +363,10 @@ void MinSPHNewton::find_constraints()
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
   rhs.assign(nfree, 0.0);
   step.assign(nfree, 0.0);
-  solver->analysed_nnz = -1;
+  solver->forget_pattern();
+  if (comm->me == 0)
+    utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n", nfree,
+                   Solver::name(HAVE_CHOLMOD && factor != LDLT));
 
   // restore the real forces and whatever the fixes tallied
   ecurrent = energy_force(0);
@@ -299,7 +380,8 @@ void MinSPHNewton::find_constraints()
 
 void MinSPHNewton::assemble_and_solve()
 {
-  std::vector<Eigen::Triplet<double>> entries;
+  auto &entries = solver->entries;
+  entries.clear();
   const int d = dim;
   pair->hessian([&](tagint k, tagint l, const double (*block)[3]) {
     for (int a = 0; a < d; a++) {
@@ -373,6 +455,29 @@ void MinSPHNewton::assemble_and_solve()
     for (int r = 0; r < nfree; r++) entries.emplace_back(r, r, 0.0);
     K.resize(nfree, nfree);
     K.setFromTriplets(entries.begin(), entries.end());
+    auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
+    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
+    if (factor != LDLT && solver->positive_definite_step(rhs_vec, step_vec)) {
+      indefinite = false;
+      nshift = 0;
+    } else {
+      solve_with_ldlt();
+    }
+  }
+  MPI_Bcast(step.data(), nfree, MPI_DOUBLE, 0, world);
+}
+
+/* ----------------------------------------------------------------------
+   rank 0: the Newton step from the LDL^T factorisation of the assembled
+   Hessian, shifting its diagonal until it is usable
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::solve_with_ldlt()
+{
+  auto &K = solver->K;
+  auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
+  auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
+  {
     if (K.nonZeros() != solver->analysed_nnz) {
       solver->ldlt.analyzePattern(K);
       solver->analysed_nnz = K.nonZeros();
@@ -382,8 +487,6 @@ void MinSPHNewton::assemble_and_solve()
     // Hessian: at a symmetric state (a bar beyond buckling) the force has no
     // part along the negative-curvature modes, and the step converges
     // quadratically to the symmetric equilibrium
-    auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
-    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
     solver->ldlt.factorize(K);
     bool usable = solver->ldlt.info() == Eigen::Success &&
         (solver->ldlt.vectorD().array().abs() > 0.0).all();
@@ -411,7 +514,6 @@ void MinSPHNewton::assemble_and_solve()
       shift *= 10.0;
     }
   }
-  MPI_Bcast(step.data(), nfree, MPI_DOUBLE, 0, world);
 }
 
 /* ----------------------------------------------------------------------

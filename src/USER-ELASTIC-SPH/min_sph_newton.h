@@ -31,7 +31,8 @@ namespace LAMMPS_NS {
    Newton's method for pair_style sph/icb stress pk1: the Hessian of the
    pair energy is assembled by atom ID, reduced by the constraints the
    force-modifying fixes impose (found by probing them), factorised on
-   rank 0 (sparse LDL^T, shifted until positive definite), and the Newton
+   rank 0 (CHOLMOD's supernodal LL^T if built with it; sparse LDL^T,
+   shifted until positive definite, where that fails), and the Newton
    step is shortened by backtracking on the energy.
 ------------------------------------------------------------------------- */
 
@@ -41,6 +42,7 @@ class MinSPHNewton : public MinLineSearch {
   ~MinSPHNewton() override;
   void init() override;
   int iterate(int) override;
+  int modify_param(int, char **) override;
 
  private:
   struct Solver;                      // Eigen matrix and factorisation, rank 0
@@ -51,6 +53,7 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<int> reduced;            // dof (tag-1)*dim+a -> free dof index, -1 if held
   std::vector<signed char> dofsign;    // -1 for a mirror atom's dof (it moves against its source)
   std::vector<double> rhs, step;       // free-dof force and Newton step
+  int factor;                          // min_modify factor: AUTO, CHOLMOD or LDLT
   int nshift;                          // diagonal shifts needed in the last factorisation
   int nroundoff;                       // line searches in a row that ended below round-off
   double roundoff_fnorm;               // |f|^2 when that run began
@@ -61,6 +64,7 @@ class MinSPHNewton : public MinLineSearch {
   void find_constraints();
   double probe_value(tagint, int) const;
   void assemble_and_solve();
+  void solve_with_ldlt();
   void scatter_step();
   int line_search(double fdoth);
 };
