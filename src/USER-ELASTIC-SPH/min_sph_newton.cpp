@@ -477,42 +477,40 @@ void MinSPHNewton::solve_with_ldlt()
   auto &K = solver->K;
   auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
   auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
-  {
-    if (K.nonZeros() != solver->analysed_nnz) {
-      solver->ldlt.analyzePattern(K);
-      solver->analysed_nnz = K.nonZeros();
-    }
+  if (K.nonZeros() != solver->analysed_nnz) {
+    solver->ldlt.analyzePattern(K);
+    solver->analysed_nnz = K.nonZeros();
+  }
 
-    // the plain Newton step whenever it points downhill, even on an indefinite
-    // Hessian: at a symmetric state (a bar beyond buckling) the force has no
-    // part along the negative-curvature modes, and the step converges
-    // quadratically to the symmetric equilibrium
+  // the plain Newton step whenever it points downhill, even on an indefinite
+  // Hessian: at a symmetric state (a bar beyond buckling) the force has no
+  // part along the negative-curvature modes, and the step converges
+  // quadratically to the symmetric equilibrium
+  solver->ldlt.factorize(K);
+  bool usable = solver->ldlt.info() == Eigen::Success &&
+      (solver->ldlt.vectorD().array().abs() > 0.0).all();
+  if (usable) {
+    step_vec = solver->ldlt.solve(rhs_vec);
+    usable = step_vec.allFinite() && rhs_vec.dot(step_vec) > 0.0;
+    indefinite = (solver->ldlt.vectorD().array() < 0.0).any();
+  }
+
+  // otherwise shift the diagonal until the matrix is positive definite
+  const Eigen::VectorXd diagonal = K.diagonal();
+  const double scale = diagonal.cwiseAbs().maxCoeff();
+  double shift = 1.0e-10 * scale;
+  nshift = 0;
+  while (!usable) {
+    if (++nshift > MAXSHIFT)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Min_style sph/newton: the Hessian stays singular after {} diagonal shifts",
+                 MAXSHIFT);
+    K.diagonal() = diagonal.array() + shift;
     solver->ldlt.factorize(K);
-    bool usable = solver->ldlt.info() == Eigen::Success &&
-        (solver->ldlt.vectorD().array().abs() > 0.0).all();
-    if (usable) {
-      step_vec = solver->ldlt.solve(rhs_vec);
-      usable = step_vec.allFinite() && rhs_vec.dot(step_vec) > 0.0;
-      indefinite = (solver->ldlt.vectorD().array() < 0.0).any();
-    }
-
-    // otherwise shift the diagonal until the matrix is positive definite
-    const Eigen::VectorXd diagonal = K.diagonal();
-    const double scale = diagonal.cwiseAbs().maxCoeff();
-    double shift = 1.0e-10 * scale;
-    nshift = 0;
-    while (!usable) {
-      if (++nshift > MAXSHIFT)
-        error->one(FLERR, Error::NOLASTLINE,
-                   "Min_style sph/newton: the Hessian stays singular after {} diagonal shifts",
-                   MAXSHIFT);
-      K.diagonal() = diagonal.array() + shift;
-      solver->ldlt.factorize(K);
-      usable = solver->ldlt.info() == Eigen::Success &&
-          (solver->ldlt.vectorD().array() > 0.0).all();
-      if (usable) step_vec = solver->ldlt.solve(rhs_vec);
-      shift *= 10.0;
-    }
+    usable = solver->ldlt.info() == Eigen::Success &&
+        (solver->ldlt.vectorD().array() > 0.0).all();
+    if (usable) step_vec = solver->ldlt.solve(rhs_vec);
+    shift *= 10.0;
   }
 }
 
