@@ -5,14 +5,13 @@ diagnostics compute, 2 MPI ranks with atoms migrating) must report no
 invalid read or write and no use of uninitialised memory.  About a minute."""
 from __future__ import annotations
 
-import os
 import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
 
 from esph.paths import lmp_binary
+from esph.runner import run_mpirun
 
 BLOCK = """
 units si
@@ -108,11 +107,8 @@ def valgrind_cmd(nprocs: int) -> list[str]:
 def test_no_memory_errors(tmp_path, name, nprocs):
     script = tmp_path / f"in.{name}"
     script.write_text(INPUTS[name])
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMP_NUM_THREADS="1")
-    proc = subprocess.run(valgrind_cmd(nprocs) + [lmp_binary(), "-in", script.name, "-log", "none",
-                                                 "-screen", "none", "-nocite"],
-                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=900)
+    proc, _ = run_mpirun(valgrind_cmd(nprocs) + [lmp_binary(), "-in", script.name, "-log", "none",
+                                                "-screen", "none", "-nocite"], tmp_path, timeout=900)
     report = proc.stdout + proc.stderr
     assert proc.returncode == 0, report[-4000:]
     assert "Invalid read" not in report and "Invalid write" not in report

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from esph.runner import run_mpi
+from esph.runner import launcher_race, run_mpi, run_mpirun
 
 GEOMETRY = {
     2: ("sq 0.001 origin 0.5 0.5 0.0", "0 10 0 8 -0.5 0.5", 0.0),
@@ -63,3 +63,47 @@ def test_periodic_runs_agree_on_1_2_4_ranks(tmp_path, dim, scheme):
     for other in runs[1:]:
         for key in ("x1", "y1", "pe", "ke"):
             assert other[key] == pytest.approx(runs[0][key], rel=1e-10), key
+
+
+# What Open MPI 4.1's mpirun printed when it lost the end of a finished run in
+# CI, after LAMMPS's last line
+RACE_TAIL = """Total wall time: 0:00:00
+--------------------------------------------------------------------------
+mpirun has exited due to process rank 0 with PID 0 on
+node vm exiting improperly. There are three reasons this could occur:
+"""
+
+
+def test_launcher_race_is_told_apart_from_real_failures():
+    assert launcher_race(1, RACE_TAIL)
+    assert not launcher_race(0, RACE_TAIL)
+    # a rank that really died is named by its own PID
+    assert not launcher_race(1, RACE_TAIL.replace("PID 0 ", "PID 4242 "))
+    # and a LAMMPS error is never put down to the launcher
+    assert not launcher_race(1, "ERROR: Illegal pair_style command (src/x.cpp:1)\n" + RACE_TAIL)
+
+
+def _fake_mpirun(tmp_path, races: int) -> list[str]:
+    """A command that prints the race `races` times, then succeeds."""
+    fake = tmp_path / "fake_mpirun.sh"
+    fake.write_text(f"""#!/bin/sh
+n=$(cat count 2>/dev/null || echo 0); echo $((n + 1)) > count
+if [ "$n" -lt {races} ]; then printf '%s' '{RACE_TAIL}'; exit 1; fi
+echo "RESULT ok 1"
+""")
+    fake.chmod(0o755)
+    return [str(fake)]
+
+
+def test_a_run_lost_by_the_launcher_is_run_once_more(tmp_path):
+    with pytest.warns(UserWarning, match="ompi#7833"):
+        proc, _ = run_mpirun(_fake_mpirun(tmp_path, races=1), tmp_path, timeout=30)
+    assert proc.returncode == 0 and "RESULT ok 1" in proc.stdout
+    assert (tmp_path / "count").read_text().strip() == "2"
+
+
+def test_a_second_lost_run_is_a_failure(tmp_path):
+    with pytest.warns(UserWarning):
+        proc, _ = run_mpirun(_fake_mpirun(tmp_path, races=2), tmp_path, timeout=30)
+    assert proc.returncode == 1
+    assert (tmp_path / "count").read_text().strip() == "2"
