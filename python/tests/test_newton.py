@@ -5,13 +5,15 @@ tests the Hessian; the equilibrium itself is checked against CG."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from esph import validate
 from esph.paths import lmp_binary
-from esph.runner import BEAM, TRUSS, run_mpi, run_script
+from esph.runner import BEAM, TRUSS, clean_environment, run_mpi, run_script
 from test_errors import BASE, ICB
 
 LOAD = -250.0
@@ -74,6 +76,40 @@ def test_both_factorisations_reach_the_same_equilibrium(tmp_path, factor):
     assert out.steps == ref.steps
     for key in ("tip_dh", "tip_dv"):
         assert out.variables[key] == pytest.approx(ref.variables[key], rel=1e-10)
+
+
+# A fresh process: counts its threads once MPI is up (a first Newton run by
+# Eigen's LDL^T), then again after a run that CHOLMOD factorises
+COUNT_THREADS = """
+import os
+from esph.runner import BEAM, run_script
+model = dict(Fy=-250.0, dx=0.002, stress="pk1", grad="quadratic", clamp="mirror", route="min",
+             solver="newton", ftol=1e-8)
+run_script(BEAM, dict(model, dx=0.005, factor="ldlt"), read=["tip_dv"])
+before = len(os.listdir("/proc/self/task"))
+run_script(BEAM, dict(model, factor="cholmod"), read=["tip_dv"])
+print(before, len(os.listdir("/proc/self/task")))
+"""
+
+
+@pytest.mark.skipif(not cholmod_built(), reason="LAMMPS built without CHOLMOD")
+def test_cholmod_starts_no_threads_unless_omp_num_threads_asks():
+    """CHOLMOD's supernodal factorisation asks for OpenMP threads of its own
+    (4 in Debian's build); with one MPI rank per core they spin against the
+    ranks.  sph/newton keeps it on the calling thread unless OMP_NUM_THREADS
+    is above 1, and then the threads appear (which shows the count sees them)."""
+    def threads(omp: str) -> tuple[int, int]:
+        env = dict(clean_environment(), OMP_NUM_THREADS=omp)
+        proc = subprocess.run([sys.executable, "-c", COUNT_THREADS], env=env, text=True,
+                              capture_output=True, timeout=300)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        before, after = proc.stdout.split()[-2:]
+        return int(before), int(after)
+
+    before, after = threads("1")
+    assert after == before
+    before, after = threads("4")
+    assert after > before
 
 
 def test_newton_on_ranks_agrees_with_serial():
