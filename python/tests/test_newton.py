@@ -169,6 +169,47 @@ def test_load_outside_the_energy_is_reported(tmp_path):
     assert "is every external load in the energy" in text
 
 
+HESSIANS = re.compile(r"sph/newton: (\d+) Hessians, (\d+) of them added into the last one's")
+STRIP_BENT = """
+neighbor 0.0001 bin
+neigh_modify every 1 delay 0 check no
+region l block INF 1.0 INF INF INF INF units lattice
+region r block 15.0 INF INF INF INF INF units lattice
+group left region l
+group right region r
+fix hold left setforce 0 0 0
+fix pull right addforce 0 -300 0
+fix_modify pull energy yes
+min_style sph/newton
+minimize 0 1e-10 100 1000
+variable tip equal xcm(right,y)
+"""
+
+
+def test_hessian_pattern_reuse_follows_the_atom_order(tmp_path):
+    """On one rank each Newton step adds its Hessian into the last one's
+    sparsity pattern.  Atoms sorted at every reneighboring change the order
+    the entries come in: the Hessian is then rebuilt, and the iterates are
+    the same as without sorting."""
+    results = []
+    for n, sort in enumerate(["", "atom_modify sort 1 0.0013\n"]):
+        log = tmp_path / f"log{n}"
+        lmp = make_lammps_with_log(log)
+        base = BASE.replace("0 6 0 4", "0 16 0 4")
+        lmp.commands_string(base.replace("atom_style sph/elastic\n",
+                                         "atom_style sph/elastic\n" + sort) + ICB + STRIP_BENT)
+        tip = lmp.extract_variable("tip")
+        lmp.close()
+        nassembly, nreused = map(int, HESSIANS.search(log.read_text()).groups())
+        results.append((tip, nassembly, nreused))
+    (tip, nassembly, nreused), (sorted_tip, sorted_nassembly, sorted_nreused) = results
+    assert tip < -0.01                               # a bend well past small strains
+    assert nassembly > 5 and nreused == nassembly - 1
+    assert sorted_nassembly == nassembly
+    assert sorted_nreused < nassembly - 1            # the order changed, and was noticed
+    assert sorted_tip == pytest.approx(tip, rel=1e-12)
+
+
 def make_lammps_with_log(log):
     from lammps import lammps
     return lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])

@@ -45,9 +45,11 @@
 #include <omp.h>
 #endif
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <unordered_map>
@@ -98,8 +100,9 @@ class SerialOpenMP {
 
 struct MinSPHNewton::Solver {
   Eigen::SparseMatrix<double> K;    // lower triangle of the reduced Hessian
-  // Hessian entries before summation, kept between iterations: allocating
-  // them afresh each time cost as much as a tenth of a large solve
+  // Hessian entries before summation; on several ranks kept between
+  // iterations (allocating them afresh each time cost as much as a tenth of
+  // a large solve), on one rank needed only to build K's pattern
   std::vector<Eigen::Triplet<double>> entries;
   // LDL^T: also factorises indefinite matrices, and tells their inertia
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
@@ -111,13 +114,45 @@ struct MinSPHNewton::Solver {
   Eigen::Index llt_nnz = -1;
 #endif
 
+  // On one rank the Hessian comes in the same order from one Newton step to
+  // the next (reference partners are fixed; only an atom sort reorders them),
+  // so after the first assembly each entry is added straight into K's values:
+  // the row and column of every entry, and where in K it goes
+  std::vector<uint64_t> entry_key;
+  std::vector<int> entry_slot;
+
   void forget_pattern()
   {
     analysed_nnz = -1;
 #ifdef ESPH_HAVE_CHOLMOD
     llt_nnz = -1;
 #endif
+    entry_key.clear();
+    entry_slot.clear();
   }
+
+  static uint64_t key(int row, int col)
+  {
+    return (static_cast<uint64_t>(row) << 32) | static_cast<uint32_t>(col);
+  }
+
+  // after K.setFromTriplets(entries): remember where the first nemitted
+  // entries (the Hessian's, in the order they came) went in K
+  void record_slots(size_t nemitted)
+  {
+    entry_key.resize(nemitted);
+    entry_slot.resize(nemitted);
+    const int *outer = K.outerIndexPtr();
+    const int *inner = K.innerIndexPtr();
+    for (size_t e = 0; e < nemitted; e++) {
+      const int row = entries[e].row(), col = entries[e].col();
+      entry_key[e] = key(row, col);
+      const int *found = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
+      entry_slot[e] = static_cast<int>(found - inner);
+    }
+  }
+
+  bool has_slots() const { return !entry_slot.empty(); }
 
   static const char *name(bool cholmod)
   {
@@ -170,7 +205,7 @@ struct MinSPHNewton::Solver {
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), factor(AUTO),
-    nshift(0), indefinite(false),
+    nshift(0), nassembly(0), nreused(0), indefinite(false),
     nroundoff(0), roundoff_fnorm(0.0)
 {
 }
@@ -251,7 +286,11 @@ int MinSPHNewton::iterate(int maxiter)
   find_constraints();
   indefinite = false;
   nroundoff = 0;
+  nassembly = nreused = 0;
   const int stop = newton_loop(maxiter);
+  if (comm->me == 0)
+    utils::logmesg(lmp, "  min_style sph/newton: {} Hessians, {} of them added into the last one's "
+                   "pattern\n", nassembly, nreused);
   int saddle = indefinite ? 1 : 0;
   MPI_Bcast(&saddle, 1, MPI_INT, 0, world);
   if (saddle && comm->me == 0)
@@ -428,22 +467,10 @@ void MinSPHNewton::find_constraints()
 
 void MinSPHNewton::assemble_and_solve()
 {
-  auto &entries = solver->entries;
-  entries.clear();
-  const int d = dim;
-  pair->hessian([&](tagint k, tagint l, const double (*block)[3]) {
-    for (int a = 0; a < d; a++) {
-      const bigint kdof = (k - 1) * d + a;
-      const int row = reduced[kdof];
-      if (row < 0) continue;
-      for (int b = 0; b < d; b++) {
-        const bigint ldof = (l - 1) * d + b;
-        const int col = reduced[ldof];
-        if (col < 0 || col > row) continue;
-        entries.emplace_back(row, col, dofsign[kdof] * dofsign[ldof] * block[a][b]);
-      }
-    }
-  });
+  const bool added = comm->nprocs == 1 && solver->has_slots() && add_into_pattern();
+  if (!added) collect_entries();
+  nassembly++;
+  if (added) nreused++;
 
   // forces after the fixes are already T^T f on the free coordinates
   std::vector<double> local(nfree, 0.0);
@@ -456,6 +483,88 @@ void MinSPHNewton::assemble_and_solve()
     }
   MPI_Reduce(local.data(), rhs.data(), nfree, MPI_DOUBLE, MPI_SUM, 0, world);
 
+  if (!added) gather_and_build();
+  if (comm->me == 0) {
+    auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
+    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
+    if (factor != LDLT && solver->positive_definite_step(rhs_vec, step_vec)) {
+      indefinite = false;
+      nshift = 0;
+    } else {
+      solve_with_ldlt();
+    }
+  }
+  MPI_Bcast(step.data(), nfree, MPI_DOUBLE, 0, world);
+}
+
+/* ----------------------------------------------------------------------
+   this rank's Hessian entries of the free coordinates (lower triangle),
+   in the order pair sph/icb gives them
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::collect_entries()
+{
+  auto &entries = solver->entries;
+  entries.clear();
+  for_each_free_entry([&](int row, int col, double value) {
+    entries.emplace_back(row, col, value);
+    return true;
+  });
+}
+
+/* ----------------------------------------------------------------------
+   one rank: add the Hessian into the values of K where the entries went
+   last time; false (K to be rebuilt) if they do not come as they did
+------------------------------------------------------------------------- */
+
+bool MinSPHNewton::add_into_pattern()
+{
+  auto &K = solver->K;
+  const auto &key = solver->entry_key;
+  const auto &slot = solver->entry_slot;
+  double *value = K.valuePtr();
+  std::fill(value, value + K.nonZeros(), 0.0);
+  size_t e = 0;
+  const bool same = for_each_free_entry([&](int row, int col, double v) {
+    if (e == key.size() || key[e] != Solver::key(row, col)) return false;
+    value[slot[e++]] += v;
+    return true;
+  });
+  return same && e == key.size();
+}
+
+/* ----------------------------------------------------------------------
+   the Hessian of sph/icb on the free coordinates, lower triangle: calls
+   add(row, col, value) for each entry until add returns false
+------------------------------------------------------------------------- */
+
+template <typename Add> bool MinSPHNewton::for_each_free_entry(Add &&add) const
+{
+  bool going = true;
+  const int d = dim;
+  pair->hessian([&](tagint k, tagint l, const double (*block)[3]) {
+    for (int a = 0; a < d && going; a++) {
+      const bigint kdof = (k - 1) * d + a;
+      const int row = reduced[kdof];
+      if (row < 0) continue;
+      for (int b = 0; b < d && going; b++) {
+        const bigint ldof = (l - 1) * d + b;
+        const int col = reduced[ldof];
+        if (col < 0 || col > row) continue;
+        going = add(row, col, dofsign[kdof] * dofsign[ldof] * block[a][b]);
+      }
+    }
+  });
+  return going;
+}
+
+/* ----------------------------------------------------------------------
+   rank 0: K from the entries of all ranks
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::gather_and_build()
+{
+  auto &entries = solver->entries;
   auto &K = solver->K;
   if (comm->nprocs > 1) {
     // sum this rank's duplicates first, then send the non-zeros to rank 0
@@ -500,19 +609,17 @@ void MinSPHNewton::assemble_and_solve()
 
   if (comm->me == 0) {
     // explicit diagonal entries keep the pattern fixed for the shifts
+    const size_t nemitted = entries.size();
     for (int r = 0; r < nfree; r++) entries.emplace_back(r, r, 0.0);
     K.resize(nfree, nfree);
     K.setFromTriplets(entries.begin(), entries.end());
-    auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), nfree);
-    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), nfree);
-    if (factor != LDLT && solver->positive_definite_step(rhs_vec, step_vec)) {
-      indefinite = false;
-      nshift = 0;
-    } else {
-      solve_with_ldlt();
+    if (comm->nprocs == 1) {
+      solver->record_slots(nemitted);
+      // the next steps add into K directly; the entries are needed again only
+      // if the order changes, and are the largest array here
+      std::vector<Eigen::Triplet<double>>().swap(entries);
     }
   }
-  MPI_Bcast(step.data(), nfree, MPI_DOUBLE, 0, world);
 }
 
 /* ----------------------------------------------------------------------

@@ -55,6 +55,7 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<double> rhs, step;       // free-dof force and Newton step
   int factor;                          // min_modify factor: AUTO, CHOLMOD or LDLT
   int nshift;                          // diagonal shifts needed in the last factorisation
+  int nassembly, nreused;              // Hessians of this minimization, and those added into K's pattern
   int nroundoff;                       // line searches in a row that ended below round-off
   double roundoff_fnorm;               // |f|^2 when that run began
   bool indefinite;                     // the last unshifted Hessian had negative pivots (rank 0)
@@ -64,6 +65,10 @@ class MinSPHNewton : public MinLineSearch {
   void find_constraints();
   double probe_value(tagint, int) const;
   void assemble_and_solve();
+  void collect_entries();
+  bool add_into_pattern();
+  template <typename Add> bool for_each_free_entry(Add &&) const;
+  void gather_and_build();
   void solve_with_ldlt();
   void scatter_step();
   int line_search(double fdoth);
