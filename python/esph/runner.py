@@ -73,6 +73,7 @@ def run_script(script: Path, variables: dict, read: list[str], log: Path | None 
 _PRINT_RE = re.compile(r"^RESULT (\S+) (\S+)$", re.M)
 _LOOP_RE = re.compile(r"^Loop time of (\S+) on", re.M)
 _ERROR_RE = re.compile(r"^ERROR.*$", re.M)
+_FINISHED_RE = re.compile(r"^Total wall time: ", re.M)
 
 
 # variables an MPI library puts into the environment of a process it started
@@ -98,9 +99,9 @@ _LAUNCHER_RACE_RE = re.compile(r"process rank \d+ with PID 0 on\s+node \S+ exiti
 
 def launcher_race(returncode: int, log: str) -> bool:
     """True when a failed mpirun shows only Open MPI's exit race: its own
-    message, and no ERROR from LAMMPS."""
+    message after LAMMPS's last line ("Total wall time"), and no ERROR."""
     return (returncode != 0 and _LAUNCHER_RACE_RE.search(log) is not None
-            and _ERROR_RE.search(log) is None)
+            and _FINISHED_RE.search(log) is not None and _ERROR_RE.search(log) is None)
 
 
 def mpi_environment(session: str) -> dict:
@@ -112,11 +113,18 @@ def mpi_environment(session: str) -> dict:
                 OMPI_MCA_orte_tmpdir_base=session)
 
 
-def run_mpirun(cmd: list[str], cwd: Path, timeout: float) -> tuple[subprocess.CompletedProcess,
-                                                                    float]:
-    """Run an mpirun command line and return it with its wall time; a run that
-    hits Open MPI's exit race is run once more (with a warning), since its
-    output cannot be told complete."""
+@dataclass
+class Launch:
+    proc: subprocess.CompletedProcess
+    wall: float              # s, of the attempt in `proc`
+    lost_log: str = ""       # output of an attempt Open MPI lost at its end, if any
+
+
+def run_mpirun(cmd: list[str], cwd: Path, timeout: float) -> Launch:
+    """Run an mpirun command line (or any command that needs MPI's launch
+    variables cleaned); a run that hits Open MPI's exit race is run once more
+    with a warning, since its output cannot be told complete."""
+    lost_log = ""
     for attempt in (1, 2):
         session = tempfile.mkdtemp(prefix="esph-ompi-")
         start = time.perf_counter()
@@ -125,12 +133,14 @@ def run_mpirun(cmd: list[str], cwd: Path, timeout: float) -> tuple[subprocess.Co
                                   text=True, timeout=timeout)
         finally:
             shutil.rmtree(session, ignore_errors=True)
+        wall = time.perf_counter() - start
         if attempt == 1 and launcher_race(proc.returncode, proc.stdout + proc.stderr):
             warnings.warn(f"Open MPI lost the end of a finished job (open-mpi/ompi#7833); "
-                          f"running it again: {' '.join(cmd)}")
+                          f"running it again: {' '.join(cmd)}", stacklevel=2)
+            lost_log = proc.stdout + proc.stderr
             continue
         break
-    return proc, time.perf_counter() - start
+    return Launch(proc, wall, lost_log)
 
 
 def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None = None,
@@ -139,8 +149,9 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
     `RESULT name value` that the script prints."""
     cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp_binary(), "-in", script.name,
            "-log", "none", "-nocite"] + _var_args(variables) + (extra or [])
-    proc, wall = run_mpirun(cmd, script.parent, timeout)
-    out = RunResult(wall=wall, log=proc.stdout + proc.stderr)
+    launch = run_mpirun(cmd, script.parent, timeout)
+    proc = launch.proc
+    out = RunResult(wall=launch.wall, log=proc.stdout + proc.stderr)
     if proc.returncode != 0:
         # LAMMPS's own ERROR line first: MPI's abort text after it can be long
         errors = "\n".join(_ERROR_RE.findall(out.log))

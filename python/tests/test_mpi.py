@@ -81,6 +81,8 @@ def test_launcher_race_is_told_apart_from_real_failures():
     assert not launcher_race(1, RACE_TAIL.replace("PID 0 ", "PID 4242 "))
     # and a LAMMPS error is never put down to the launcher
     assert not launcher_race(1, "ERROR: Illegal pair_style command (src/x.cpp:1)\n" + RACE_TAIL)
+    # nor is a run that LAMMPS did not finish
+    assert not launcher_race(1, RACE_TAIL.replace("Total wall time: 0:00:00\n", ""))
 
 
 def _fake_mpirun(tmp_path, races: int) -> list[str]:
@@ -97,13 +99,14 @@ echo "RESULT ok 1"
 
 def test_a_run_lost_by_the_launcher_is_run_once_more(tmp_path):
     with pytest.warns(UserWarning, match="ompi#7833"):
-        proc, _ = run_mpirun(_fake_mpirun(tmp_path, races=1), tmp_path, timeout=30)
-    assert proc.returncode == 0 and "RESULT ok 1" in proc.stdout
+        launch = run_mpirun(_fake_mpirun(tmp_path, races=1), tmp_path, timeout=30)
+    assert launch.proc.returncode == 0 and "RESULT ok 1" in launch.proc.stdout
+    assert "exiting improperly" in launch.lost_log      # kept for whoever checks all output
     assert (tmp_path / "count").read_text().strip() == "2"
 
 
 def test_a_second_lost_run_is_a_failure(tmp_path):
     with pytest.warns(UserWarning):
-        proc, _ = run_mpirun(_fake_mpirun(tmp_path, races=2), tmp_path, timeout=30)
-    assert proc.returncode == 1
+        launch = run_mpirun(_fake_mpirun(tmp_path, races=2), tmp_path, timeout=30)
+    assert launch.proc.returncode == 1
     assert (tmp_path / "count").read_text().strip() == "2"

@@ -98,16 +98,19 @@ def test_cholmod_starts_no_threads_unless_omp_num_threads_asks():
     (4 in Debian's build); with one MPI rank per core they spin against the
     ranks.  sph/newton keeps it on the calling thread unless OMP_NUM_THREADS
     is above 1, and then the threads appear (which shows the count sees them)."""
-    def threads(omp: str) -> tuple[int, int]:
-        env = dict(clean_environment(), OMP_NUM_THREADS=omp)
+    def threads(omp: str | None) -> tuple[int, int]:
+        env = {k: v for k, v in clean_environment().items() if k != "OMP_NUM_THREADS"}
+        if omp is not None:
+            env["OMP_NUM_THREADS"] = omp
         proc = subprocess.run([sys.executable, "-c", COUNT_THREADS], env=env, text=True,
                               capture_output=True, timeout=300)
         assert proc.returncode == 0, proc.stderr[-3000:]
         before, after = proc.stdout.split()[-2:]
         return int(before), int(after)
 
-    before, after = threads("1")
-    assert after == before
+    for omp in (None, "1"):
+        before, after = threads(omp)
+        assert after == before, omp
     before, after = threads("4")
     assert after > before
 

@@ -48,8 +48,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <unordered_map>
@@ -159,19 +159,21 @@ struct MinSPHNewton::Solver {
     if (!cholmod) return "Eigen SimplicialLDLT";
     return cholmod_threads_allowed()
         ? "CHOLMOD supernodal LL^T with its OpenMP threads (Eigen LDL^T where not positive definite)"
-        : "CHOLMOD supernodal LL^T on one thread (Eigen LDL^T where not positive definite)";
+        : "CHOLMOD supernodal LL^T, its OpenMP threads off (Eigen LDL^T where not positive definite)";
   }
 
   // CHOLMOD 3 runs parts of its supernodal factorisation on a number of OpenMP
   // threads fixed when it was built (4 in Debian's), whatever OMP_NUM_THREADS
   // says; next to the MPI ranks on the same cores they spin against them (beam
   // at dx = 0.5 mm, 1 rank on 2 cores: 13-15 s against 10-11 s).  As in LAMMPS,
-  // threads are used only when OMP_NUM_THREADS asks for more than one.
+  // threads are used only when OMP_NUM_THREADS asks for more than one, and
+  // then CHOLMOD's fixed number of them.  (A multi-threaded BLAS under CHOLMOD
+  // has threads of its own: OPENBLAS_NUM_THREADS.)
   static bool cholmod_threads_allowed()
   {
 #ifdef ESPH_CHOLMOD_OPENMP
-    const char *env = getenv("OMP_NUM_THREADS");
-    return env && atoi(env) > 1;
+    const char *env = std::getenv("OMP_NUM_THREADS");
+    return env && std::atoi(env) > 1;
 #else
     return true;    // built without the OpenMP runtime's interface: no say in it
 #endif
@@ -288,7 +290,7 @@ int MinSPHNewton::iterate(int maxiter)
   nroundoff = 0;
   nassembly = nreused = 0;
   const int stop = newton_loop(maxiter);
-  if (comm->me == 0)
+  if (comm->nprocs == 1)    // several ranks build every Hessian afresh
     utils::logmesg(lmp, "  min_style sph/newton: {} Hessians, {} of them added into the last one's "
                    "pattern\n", nassembly, nreused);
   int saddle = indefinite ? 1 : 0;
@@ -519,6 +521,9 @@ void MinSPHNewton::collect_entries()
 
 bool MinSPHNewton::add_into_pattern()
 {
+  // on a mismatch the rest of the Hessian is still computed (not added) and
+  // then computed again to rebuild K: twice the work, but only after an atom
+  // sort, a few times in a minimization
   auto &K = solver->K;
   const auto &key = solver->entry_key;
   const auto &slot = solver->entry_slot;
