@@ -144,3 +144,29 @@ def test_quadratic_gradient_is_exact_for_bending_up_to_the_surfaces():
         lmp.close()
     assert results["quadratic"] < 1e-10
     assert results["linear"] > 1e-2
+
+
+# kernel support 2h = 2.4 dx: an interior particle has 20 reference partners,
+# at dx (4), sqrt(2) dx (4), 2 dx (4) and sqrt(5) dx (8)
+@pytest.mark.parametrize("lam,broken,failed", [(1.1, 4 / 20, 0.0), (2.5, 16 / 20, 1.0)])
+def test_failure_indicators_of_a_uniform_stretch(lam, broken, failed):
+    """Stretch by lam along x: adjacent partners move apart by lam; at 1.1
+    the four at (2, 1) dx end 2.417 dx apart, beyond the support; at 2.5
+    all but the four straight above and below are beyond it, adjacent ones
+    too, which is failure."""
+    lmp = make_lammps()
+    block(lmp, n=(9, 9, 1))
+    lmp.command("compute fail all sph/elastic/atom stretch broken failed")
+    lmp.command("run 0")
+    apply_affine(lmp, np.diag([lam, 1.0, 1.0]), 2)
+    lmp.command("run 0")
+    out = per_atom(lmp, "fail", cols=3)
+    x0 = np.array(lmp.numpy.extract_atom("x0")[:lmp.get_natoms()], dtype=float)
+    lmp.close()
+    inner = np.all((x0[:, :2] > 2.0e-3) & (x0[:, :2] < 7.0e-3), axis=1)
+    assert inner.sum() == 25
+    assert out[inner, 0] == pytest.approx(lam, rel=1e-12)
+    assert out[inner, 1] == pytest.approx(broken, abs=1e-12)
+    assert np.all(out[inner, 2] == failed)
+    # the edges have fewer partners but the same adjacent stretch
+    assert out[:, 0] == pytest.approx(lam, rel=1e-12)

@@ -169,9 +169,10 @@ void ComputeSPHElasticAtom::stretch_of(int i, double &stretch, double &broken, d
   double r0min = pd[FixSPHPartners::R0];
   for (int k = 1; k < n; k++) r0min = MIN(r0min, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
 
+  const int *jl = pair->partner_indices(i);
   int nbroken = 0;
   for (int k = 0; k < n; k++) {
-    const int j = partners->find_partner(i, k);
+    const int j = jl ? jl[k] : partners->find_partner(i, k);
     if (j < 0) {    // not even a ghost: certainly beyond the support
       nbroken++;
       failed = 1.0;

@@ -54,6 +54,9 @@ class PairSPHElastic : public Pair {
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
   virtual bool has_green() const { return true; }    // is the green array filled
   class FixSPHPartners *get_partners() const { return partners; }
+  // local indices of owned atom i's reference partners as the last force
+  // computation found them, or nullptr if there are none that are current
+  virtual const int *partner_indices(int) const { return nullptr; }
 
  protected:
   double h;

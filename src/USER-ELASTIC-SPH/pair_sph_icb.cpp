@@ -239,6 +239,17 @@ void PairSPHICB::refresh_partner_indices()
 }
 
 /* ----------------------------------------------------------------------
+   the partner indices of owned atom i, if refreshed since the last
+   neighbor list build (diagnostics then skip the tag lookups)
+------------------------------------------------------------------------- */
+
+const int *PairSPHICB::partner_indices(int i) const
+{
+  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal) return nullptr;
+  return &jlocal[i * partners->maxpartner];
+}
+
+/* ----------------------------------------------------------------------
    deformation gradient, strain, stress and stress measure of owned atom i;
    returns its strain energy V_i psi(E_i)
 ------------------------------------------------------------------------- */

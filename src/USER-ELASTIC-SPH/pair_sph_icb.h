@@ -49,6 +49,7 @@ class PairSPHICB : public PairSPHElastic {
   // true if hessian() is exact (without hourglass control); else it is an SPD approximation
   bool hessian_is_exact() const { return hourglass == 0.0; }
   void hessian(const HessianSink &) const;
+  const int *partner_indices(int) const override;
 
  protected:
   int measure;                   // stress measure P = R S (corotated) or F S (pk1)
