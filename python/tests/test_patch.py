@@ -170,3 +170,33 @@ def test_failure_indicators_of_a_uniform_stretch(lam, broken, failed):
     assert np.all(out[inner, 2] == failed)
     # the edges have fewer partners but the same adjacent stretch
     assert out[:, 0] == pytest.approx(lam, rel=1e-12)
+
+
+def test_failure_indicators_follow_atoms_that_are_sorted_during_a_run():
+    """The adjacent partners are found once per neighbor list build, by local
+    index; a shearing block sorted at every step must give, at the last step
+    of the run, what a fresh evaluation of the same positions gives."""
+    lmp = make_lammps()
+    block(lmp, n=(9, 9, 1))
+    lmp.commands_string("""
+        compute fail all sph/elastic/atom stretch broken failed
+        fix nve all nve
+        atom_modify sort 1 0.0005
+        neigh_modify every 1 delay 0 check no
+        run 0
+        velocity all ramp vx -400 400 y 0 0.009 units box
+        timestep 1e-7
+        compute most all reduce max c_fail[1]
+        thermo_style custom step c_most
+        thermo 1
+        run 20
+    """)
+    n = lmp.get_natoms()
+    ids = np.array(lmp.numpy.extract_atom("id")[:n])
+    in_run = per_atom(lmp, "fail", cols=3)[np.argsort(ids)]
+    lmp.command("run 0")
+    ids = np.array(lmp.numpy.extract_atom("id")[:n])
+    fresh = per_atom(lmp, "fail", cols=3)[np.argsort(ids)]
+    lmp.close()
+    assert np.max(fresh[:, 0]) > 1.01                  # sheared: stretches differ by atom
+    np.testing.assert_allclose(in_run, fresh, rtol=1e-12)

@@ -24,6 +24,7 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "pair_sph_elastic.h"
 #include "update.h"
 
@@ -42,7 +43,8 @@ static constexpr double ADJACENT_TOL = 1.0e-3;
 ------------------------------------------------------------------------- */
 
 ComputeSPHElasticAtom::ComputeSPHElasticAtom(LAMMPS *lmp, int narg, char **arg) :
-    Compute(lmp, narg, arg), nmax(0), output(nullptr), pair(nullptr), rotfix(nullptr)
+    Compute(lmp, narg, arg), nmax(0), output(nullptr), pair(nullptr), rotfix(nullptr),
+    adjacent_builds(-1), adjacent_nlocal(-1)
 {
   if (narg < 4) utils::missing_cmd_args(FLERR, "compute sph/elastic/atom", error);
   struct QuantityName {
@@ -84,6 +86,7 @@ ComputeSPHElasticAtom::~ComputeSPHElasticAtom()
 
 void ComputeSPHElasticAtom::init()
 {
+  adjacent_builds = -1;    // neighbor->ncalls restarts at every init
   pair = dynamic_cast<PairSPHElastic *>(force->pair);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
@@ -149,6 +152,43 @@ void ComputeSPHElasticAtom::compute_peratom()
 }
 
 /* ----------------------------------------------------------------------
+   the adjacent reference partners of every owned atom: those at its
+   smallest reference distance.  They change only with the local order of
+   the atoms, i.e. at neighbor list builds; finding them reads every
+   partner record, which took two thirds of each failure check when it
+   was done per call
+------------------------------------------------------------------------- */
+
+void ComputeSPHElasticAtom::find_adjacent_partners()
+{
+  const int nlocal = atom->nlocal;
+  if (adjacent_builds == neighbor->ncalls && adjacent_nlocal == nlocal) return;
+  FixSPHPartners *partners = pair->get_partners();
+  adjacent_start.assign(nlocal + 1, 0);
+  adjacent_k.clear();
+  adjacent_r0.clear();
+  for (int i = 0; i < nlocal; i++) {
+    const int n = partners->npartner[i];
+    const double *pd = partners->pdata[i];
+    double r0min = 0.0;
+    for (int k = 0; k < n; k++) {
+      const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+      if (k == 0 || r0 < r0min) r0min = r0;
+    }
+    for (int k = 0; k < n; k++) {
+      const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+      if (r0 <= (1.0 + ADJACENT_TOL) * r0min) {
+        adjacent_k.push_back(k);
+        adjacent_r0.push_back(r0);
+      }
+    }
+    adjacent_start[i + 1] = static_cast<int>(adjacent_k.size());
+  }
+  adjacent_builds = neighbor->ncalls;
+  adjacent_nlocal = nlocal;
+}
+
+/* ----------------------------------------------------------------------
    failure indicator of owned atom i from its reference partners:
      stretch  largest current/reference distance of initially adjacent partners
      broken   fraction of all partners now farther apart than 2h
@@ -162,37 +202,37 @@ void ComputeSPHElasticAtom::stretch_of(int i, double &stretch, double &broken, d
   if (!partners || !partners->built()) return;
   const int n = partners->npartner[i];
   if (n == 0) return;
-  const double *pd = partners->pdata[i];
+  find_adjacent_partners();
   const double support = pair->get_kernel().support();
   const double *const *const x = atom->x;
-
-  double r0min = pd[FixSPHPartners::R0];
-  for (int k = 1; k < n; k++) r0min = MIN(r0min, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
-
   const int *jl = pair->partner_indices(i);
+  auto distance = [&](int k) {    // -1 if partner k is not even a ghost here
+    const int j = jl ? jl[k] : partners->find_partner(i, k);
+    if (j < 0) return -1.0;
+    const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  };
+
   int nbroken = 0;
   for (int k = 0; k < n; k++) {
-    const int j = jl ? jl[k] : partners->find_partner(i, k);
-    if (j < 0) {    // not even a ghost: certainly beyond the support
-      nbroken++;
-      failed = 1.0;
-      continue;
-    }
-    const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
-    const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
-    if (r > support) nbroken++;
-    if (r0 <= (1.0 + ADJACENT_TOL) * r0min) {
-      stretch = MAX(stretch, r / r0);
-      if (r > support) failed = 1.0;
-    }
+    const double r = distance(k);
+    if (r < 0.0) failed = 1.0;    // not even a ghost: certainly beyond the support
+    if (r < 0.0 || r > support) nbroken++;
   }
   broken = (double) nbroken / n;
+
+  for (int a = adjacent_start[i]; a < adjacent_start[i + 1]; a++) {
+    const double r = distance(adjacent_k[a]);
+    if (r > support) failed = 1.0;
+    stretch = MAX(stretch, r / adjacent_r0[a]);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
 double ComputeSPHElasticAtom::memory_usage()
 {
-  return (double) nmax * size_peratom_cols * sizeof(double);
+  return (double) nmax * size_peratom_cols * sizeof(double) +
+      (double) adjacent_start.capacity() * sizeof(int) +
+      (double) adjacent_k.capacity() * (sizeof(int) + sizeof(double));
 }

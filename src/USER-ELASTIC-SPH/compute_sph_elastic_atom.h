@@ -42,6 +42,14 @@ class ComputeSPHElasticAtom : public Compute {
   class PairSPHElastic *pair;
   class FixSPHRotation *rotfix;
 
+  // per owned atom, its adjacent reference partners (nearest in the reference
+  // configuration): slots adjacent_k[adjacent_start[i] ...] and their distances
+  std::vector<int> adjacent_start, adjacent_k;
+  std::vector<double> adjacent_r0;
+  bigint adjacent_builds;    // neighbor->ncalls when they were found (-1: not yet)
+  int adjacent_nlocal;
+
+  void find_adjacent_partners();
   void stretch_of(int i, double &stretch, double &broken, double &failed);
 };
 
