@@ -1,0 +1,304 @@
+"""set_sph_volumes: surface-consistent particle volumes.  The particle sum
+sum_i V_i p(X_i) must be the exact integral of every quadratic p over the
+body, on rectangles, boxes, L-shapes, notched and holed bodies (faces on
+lattice planes, edges and corners included) and on concentric rings; the
+plain cell volumes (the paper's) must miss it by the midpoint rule's error.
+Integrals come from the body's exact geometry (cells), not from the code."""
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from conftest import make_lammps
+
+DX = 1.0e-3
+T = 2.0e-3          # 2d thickness
+RHO = 1200.0
+
+
+def cells_integrals(cells, dim, thickness):
+    """Exact integrals of the monomials of degree <= 2 over a union of unit
+    lattice cells of size DX centred at `cells` (an (n, dim) array)."""
+    # over one cell [c - DX/2, c + DX/2]: int 1 = DX, int x = c DX,
+    # int x^2 = (c^2 + DX^2/12) DX; products factorise per axis
+    out = {}
+    for powers in monomials(dim):
+        total = 0.0
+        for c in cells:
+            term = 1.0
+            for a, p in enumerate(powers):
+                term *= {0: DX, 1: c[a] * DX, 2: (c[a] ** 2 + DX ** 2 / 12.0) * DX}[p]
+            total += term
+        out[powers] = total * (thickness if dim == 2 else 1.0)
+    return out
+
+
+def monomials(dim):
+    return [p for p in itertools.product(range(3), repeat=dim) if sum(p) <= 2]
+
+
+def particle_sums(lmp, dim):
+    n = lmp.get_natoms()
+    order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+    X = np.array(lmp.numpy.extract_atom("x0")[:n])[order][:, :dim]
+    V = np.array(lmp.numpy.extract_atom("vfrac")[:n])[order]
+    m = np.array(lmp.numpy.extract_atom("rmass")[:n])[order]
+    sums = {p: float(np.sum(V * np.prod(X ** np.array(p), axis=1))) for p in monomials(dim)}
+    return sums, X, V, m
+
+
+def lattice_body(dim, keep, nbox, volume_args="", group="all"):
+    """Atoms on the cell centres (i + 1/2) DX of an nbox lattice for which
+    keep(i, j, k) is true; volumes by set_sph_volumes."""
+    lmp = make_lammps()
+    zrange = "-0.5 0.5" if dim == 2 else f"0 {nbox[2]}"
+    lmp.commands_string(f"""
+        units si
+        dimension {dim}
+        boundary f f {'p' if dim == 2 else 'f'}
+        atom_style sph/elastic
+        lattice {'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
+        region box block 0 {nbox[0]} 0 {nbox[1]} {zrange} units lattice
+        create_box 1 box
+    """)
+    cells = []
+    for idx in itertools.product(*(range(nbox[a]) for a in range(dim))):
+        if keep(*idx):
+            c = [(i + 0.5) * DX for i in idx]
+            cells.append(c)
+            z = c[2] if dim == 3 else 0.0
+            lmp.command(f"create_atoms 1 single {c[0]} {c[1]} {z} units box")
+    lmp.commands_string(f"""
+        set group all mol 1
+        set group all volume 1.0
+        set group all mass {RHO}
+    """)
+    thickness = f"thickness {T}" if dim == 2 else ""
+    lmp.command(f"set_sph_volumes {group} lattice {DX} {thickness} {volume_args}")
+    return lmp, np.array(cells)
+
+
+SHAPES_2D = {
+    "rectangle": ((10, 4), lambda i, j: True),
+    "L-shape": ((12, 10), lambda i, j: i < 5 or j < 4),
+    "notch": ((14, 9), lambda i, j: not (5 <= i < 9 and j >= 5)),
+    "hole": ((14, 12), lambda i, j: not (4 <= i < 9 and 4 <= j < 8)),
+    "thin 3": ((9, 3), lambda i, j: True),
+}
+SHAPES_3D = {
+    "box": ((7, 4, 3), lambda i, j, k: True),
+    "L-box": ((8, 7, 4), lambda i, j, k: i < 4 or j < 3),
+    "holed box": ((9, 9, 4), lambda i, j, k: not (3 <= i < 6 and 3 <= j < 6)),
+}
+
+
+def assert_exact(lmp, cells, dim):
+    sums, X, V, m = particle_sums(lmp, dim)
+    exact = cells_integrals(cells, dim, T)
+    scale = exact[(0,) * dim]
+    for p, value in exact.items():
+        size = scale * max(1.0, float(np.max(np.abs(cells))) ** sum(p))
+        assert sums[p] == pytest.approx(value, rel=0, abs=1e-12 * size), p
+    # density stays uniform: m = rho V for the mass set before
+    np.testing.assert_allclose(m / V, RHO, rtol=1e-12)
+    return V
+
+
+@pytest.mark.parametrize("name", list(SHAPES_2D))
+def test_2d_shapes_integrate_every_quadratic_exactly(name):
+    nbox, keep = SHAPES_2D[name]
+    lmp, cells = lattice_body(2, keep, nbox + (1,))
+    V = assert_exact(lmp, cells, 2)
+    assert V.min() > 0
+    lmp.close()
+
+
+@pytest.mark.parametrize("name", list(SHAPES_3D))
+def test_3d_shapes_integrate_every_quadratic_exactly(name):
+    nbox, keep = SHAPES_3D[name]
+    lmp, cells = lattice_body(3, keep, nbox)
+    assert_exact(lmp, cells, 3)
+    lmp.close()
+
+
+def test_plain_cells_miss_the_second_moment_by_the_midpoint_error():
+    """correction none gives dx^2 t per particle: the midpoint rule, short
+    by H h^2/12 in int y^2 -- the error the correction removes."""
+    nbox, keep = SHAPES_2D["rectangle"]
+    lmp, cells = lattice_body(2, keep, nbox + (1,), volume_args="correction none")
+    sums, X, V, m = particle_sums(lmp, 2)
+    np.testing.assert_allclose(V, DX * DX * T, rtol=1e-14)
+    exact = cells_integrals(cells, 2, T)
+    W, H = nbox[0] * DX, nbox[1] * DX
+    assert exact[(0, 2)] - sums[(0, 2)] == pytest.approx(W * H * DX ** 2 / 12 * T, rel=1e-9)
+    lmp.close()
+
+
+def test_weights_of_a_rectangle_are_the_end_corrections():
+    """Inside the third layer the volume is the plain cell; the outermost
+    three layers of a face get 1 + 1/12, 1 - 1/8, 1 + 1/24 (added at corners)."""
+    lmp, cells = lattice_body(2, lambda i, j: True, (10, 8, 1))
+    sums, X, V, m = particle_sums(lmp, 2)
+    c = [1 / 12, -1 / 8, 1 / 24, 0.0]
+    ix = np.rint(X[:, 0] / DX - 0.5).astype(int)
+    iy = np.rint(X[:, 1] / DX - 0.5).astype(int)
+    expect = 1 + np.array([c[min(i, 3)] + c[min(9 - i, 3)] + c[min(j, 3)] + c[min(7 - j, 3)]
+                           for i, j in zip(ix, iy)])
+    np.testing.assert_allclose(V / (DX * DX * T), expect, rtol=1e-13)
+    lmp.close()
+
+
+def test_density_keyword_sets_the_mass():
+    lmp, cells = lattice_body(2, lambda i, j: True, (6, 5, 1), volume_args="density 500")
+    sums, X, V, m = particle_sums(lmp, 2)
+    np.testing.assert_allclose(m, 500.0 * V, rtol=1e-14)
+    lmp.close()
+
+
+def test_bodies_are_told_apart_by_molecule():
+    """Two blocks side by side, one lattice spacing apart, are two bodies:
+    each gets its own surface corrections at the faces that touch."""
+    lmp, cells = lattice_body(2, lambda i, j: True, (10, 4, 1))
+    lmp.close()
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary f f p
+        atom_style sph/elastic
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block 0 10 0 4 -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        region left block 0 5 INF INF INF INF
+        group left region left
+        set group all mol 2
+        set group left mol 1
+        set group all volume 1.0
+        set group all mass 1.0
+        set_sph_volumes all lattice {DX} thickness {T}
+    """)
+    sums, X, V, m = particle_sums(lmp, 2)
+    left = X[:, 0] < 5 * DX
+    for side in (left, ~left):
+        cells = X[side]
+        exact = cells_integrals(cells, 2, T)
+        assert float(np.sum(V[side] * X[side, 0] ** 2)) == pytest.approx(exact[(2, 0)], rel=1e-12)
+    lmp.close()
+
+
+def test_thin_rows_are_reported():
+    """A part only 2 particles thick cannot be corrected: say so."""
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary f f p
+        atom_style sph/elastic
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block 0 10 0 2 -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        set group all mol 1
+        set group all volume 1.0
+        set group all mass 1.0
+    """)
+    from lammps import lammps  # noqa: F401  (for the log capture below)
+    lmp.command(f"set_sph_volumes all lattice {DX} thickness {T}")
+    n = lmp.get_natoms()
+    V = np.array(lmp.numpy.extract_atom("vfrac")[:n])
+    # along y nothing is corrected, along x the ends are
+    assert np.isclose(V.min(), DX * DX * T * (1 - 1 / 8))
+    lmp.close()
+
+
+def ring_body(nlayer, r_in, centre=(0.01, -0.02)):
+    """Concentric circles r_k = r_in + (k + 1/2) DX with n_k = round(2 pi r_k / DX)."""
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary f f p
+        atom_style sph/elastic
+        region box block -0.1 0.1 -0.1 0.1 -0.001 0.001 units box
+        create_box 1 box
+    """)
+    layers = []
+    for k in range(nlayer):
+        r = r_in + (k + 0.5) * DX
+        n = round(2 * math.pi * r / DX)
+        layers.append((r, n))
+        for m in range(n):
+            th = 2 * math.pi * (m + 0.3) / n
+            lmp.command(f"create_atoms 1 single {centre[0] + r * math.cos(th)} "
+                        f"{centre[1] + r * math.sin(th)} 0.0 units box")
+    lmp.commands_string("""
+        set group all mol 1
+        set group all volume 1.0
+        set group all mass 1.0
+    """)
+    return lmp, layers
+
+
+@pytest.mark.parametrize("nlayer", [3, 5, 10])
+def test_rings_integrate_every_quadratic_exactly(nlayer):
+    centre = (0.01, -0.02)
+    r_in = 0.03
+    lmp, layers = ring_body(nlayer, r_in, centre)
+    lmp.command(f"set_sph_volumes all polar {DX} {centre[0]} {centre[1]} thickness {T} density 7")
+    sums, X, V, m = particle_sums(lmp, 2)
+    a, b = r_in, r_in + nlayer * DX
+    area = math.pi * (b * b - a * a)
+    # moments about the centre: int 1, int x', int y', int x'^2 = int y'^2, int x' y'
+    xr, yr = X[:, 0] - centre[0], X[:, 1] - centre[1]
+    second = math.pi * (b ** 4 - a ** 4) / 4
+    assert np.sum(V) == pytest.approx(area * T, rel=1e-12)
+    assert abs(np.sum(V * xr)) < 1e-12 * area * T * b
+    assert abs(np.sum(V * yr)) < 1e-12 * area * T * b
+    assert np.sum(V * xr * xr) == pytest.approx(second * T, rel=1e-12)
+    assert np.sum(V * yr * yr) == pytest.approx(second * T, rel=1e-12)
+    assert abs(np.sum(V * xr * yr)) < 1e-12 * second * T
+    np.testing.assert_allclose(m, 7 * V, rtol=1e-14)
+    lmp.close()
+
+
+BAD = [
+    # (commands before, the command, words the error must contain)
+    ("", "set_sph_volumes all lattice 0.001", "thickness"),
+    ("", "set_sph_volumes all lattice 0.0015 thickness 0.001", "not on a lattice"),
+    ("", "set_sph_volumes all cubic 0.001 thickness 0.001", "use lattice or polar"),
+    ("", "set_sph_volumes all lattice -1 thickness 0.001", "must be > 0"),
+    ("", "set_sph_volumes all lattice 0.001 thickness 0.001 correction maybe", "surface or none"),
+    ("", "set_sph_volumes all lattice 0.001 thickness 0.001 colour red", "Unknown set_sph_volumes"),
+    ("create_atoms 1 single 0.0005 0.0005 0 units box\nset group all mol 1",
+     "set_sph_volumes all lattice 0.001 thickness 0.001", "same lattice site"),
+    ("", "set_sph_volumes all polar 0.001 0 0 thickness 0.001", "not on a circle"),
+    ("pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0\nrun 0",
+     "set_sph_volumes all lattice 0.001 thickness 0.001", "already built"),
+]
+
+
+@pytest.mark.parametrize("before, command, words", BAD)
+def test_bad_input_is_a_clear_error(before, command, words):
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary f f p
+        atom_style sph/elastic
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block 0 6 0 4 -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+    """)
+    for line in filter(None, before.split("\n")):
+        lmp.command(line)
+    with pytest.raises(Exception, match=words):
+        lmp.command(command)
+    lmp.close()

@@ -1,0 +1,426 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+
+   The strain energy of a body is the particle sum sum_i V_i W(F_i), a
+   midpoint rule.  Along a row of n cells it misses (h^2/24) [f'(b) -
+   f'(a)] of the integral of f, which for the bending energy of a beam
+   ten particles deep is 1 %.  Euler-Maclaurin's end correction written
+   with the three outermost values, weights 1 + 1/12, 1 - 1/8, 1 + 1/24
+   from the end inwards, makes each row exact for every cubic (the
+   corrected rule stays symmetric), whatever n >= 3.
+
+   In several dimensions the corrections of the rows along each axis are
+   added: w_i = 1 + sum_axes (c_low + c_high).  For any body that is a
+   union of lattice cells this is exact for every quadratic p: the x rows
+   integrate p over x exactly and miss only the midpoint error in y and z
+   of each cell, and likewise for the other axes, so the sum over the d
+   axes minus (d - 1) times the plain midpoint sum leaves the integral.
+   That covers L-shapes, notches and holes, edges and corners included.
+------------------------------------------------------------------------- */
+
+#include "set_sph_volumes.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_partners.h"
+#include "group.h"
+#include "math_const.h"
+#include "modify.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using MathConst::MY_2PI;
+
+namespace {
+// end correction of the k-th cell from the end of a row (k = 0 outermost)
+constexpr double END_CORRECTION[4] = {1.0 / 12.0, -1.0 / 8.0, 1.0 / 24.0, 0.0};
+// a coordinate is on the lattice if within this fraction of the spacing
+constexpr double LATTICE_TOL = 1.0e-6;
+// relative size of the first two angular moments of an evenly spaced circle
+constexpr double ANGLE_TOL = 1.0e-8;
+
+int present_bit(int axis, int side, int offset)
+{
+  return 1 << (3 * (2 * axis + side) + offset - 1);
+}
+
+// consecutive sites present from a site towards one side, at most 3
+int run_to_end(int present, int axis, int side)
+{
+  int k = 0;
+  while (k < 3 && (present & present_bit(axis, side, k + 1))) k++;
+  return k;
+}
+
+long long wrap(long long i, long long period)
+{
+  if (period <= 0) return i;
+  i %= period;
+  return i < 0 ? i + period : i;
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+size_t SetSPHVolumes::SiteHash::operator()(const Site &s) const
+{
+  size_t h = 1469598103934665603ULL;
+  for (long long v : s) h = (h ^ (size_t) v) * 1099511628211ULL;
+  return h;
+}
+
+/* ----------------------------------------------------------------------
+   set_sph_volumes group-ID lattice dx [keyword value ...]
+   set_sph_volumes group-ID polar dr cx cy [keyword value ...]
+   keywords: thickness t, density rho, correction surface|none
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::command(int narg, char **arg)
+{
+  if (!domain->box_exist)
+    error->all(FLERR, "Set_sph_volumes command before simulation box is defined");
+  if (narg < 3) utils::missing_cmd_args(FLERR, "set_sph_volumes", error);
+  if (!atom->x0_flag || !atom->vfrac_flag || !atom->rmass_flag)
+    error->all(FLERR, "Set_sph_volumes requires atom_style sph/elastic");
+  const int igroup = group->find(arg[0]);
+  if (igroup < 0) error->all(FLERR, "Could not find set_sph_volumes group ID {}", arg[0]);
+  groupbit = group->bitmask[igroup];
+  dim = domain->dimension;
+
+  for (auto *fix : modify->get_fix_by_style("^SPH_PARTNERS$")) {
+    auto *partners = dynamic_cast<FixSPHPartners *>(fix);
+    if (partners && partners->built())
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes: the reference partners were already built with the old "
+                 "volumes; set the volumes before the first run or minimize");
+  }
+
+  const bool polar = strcmp(arg[1], "polar") == 0;
+  if (!polar && strcmp(arg[1], "lattice") != 0)
+    error->all(FLERR, 1, "Unknown set_sph_volumes style {}: use lattice or polar", arg[1]);
+  const int nfixed = polar ? 5 : 3;
+  if (narg < nfixed)
+    utils::missing_cmd_args(FLERR, fmt::format("set_sph_volumes {}", arg[1]), error);
+  spacing = utils::numeric(FLERR, arg[2], false, lmp);
+  if (!(spacing > 0.0))
+    error->all(FLERR, 2, "Set_sph_volumes {} spacing must be > 0, got {}", arg[1], spacing);
+  if (polar) {
+    if (dim != 2)
+      error->all(FLERR, 1, "Set_sph_volumes polar is for 2d rings and disks; use lattice in 3d");
+    centre[0] = utils::numeric(FLERR, arg[3], false, lmp);
+    centre[1] = utils::numeric(FLERR, arg[4], false, lmp);
+  }
+  parse_keywords(nfixed, narg, arg);
+
+  std::vector<double> volume(atom->nlocal, 0.0);
+  if (polar)
+    polar_weights(volume);
+  else
+    lattice_weights(volume);
+  assign(volume, arg[0]);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void SetSPHVolumes::parse_keywords(int iarg, int narg, char **arg)
+{
+  thickness = 0.0;
+  density = 0.0;
+  correct = true;
+  while (iarg < narg) {
+    if (iarg + 1 >= narg)
+      utils::missing_cmd_args(FLERR, fmt::format("set_sph_volumes {}", arg[iarg]), error);
+    if (strcmp(arg[iarg], "thickness") == 0) {
+      thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(thickness > 0.0))
+        error->all(FLERR, iarg + 1, "Set_sph_volumes thickness must be > 0, got {}", thickness);
+    } else if (strcmp(arg[iarg], "density") == 0) {
+      density = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(density > 0.0))
+        error->all(FLERR, iarg + 1, "Set_sph_volumes density must be > 0, got {}", density);
+    } else if (strcmp(arg[iarg], "correction") == 0) {
+      if (strcmp(arg[iarg + 1], "surface") == 0)
+        correct = true;
+      else if (strcmp(arg[iarg + 1], "none") == 0)
+        correct = false;
+      else
+        error->all(FLERR, iarg + 1,
+                   "Unknown set_sph_volumes correction {}: use surface or none", arg[iarg + 1]);
+    } else {
+      error->all(FLERR, iarg, "Unknown set_sph_volumes keyword {}", arg[iarg]);
+    }
+    iarg += 2;
+  }
+  if (dim == 2 && thickness == 0.0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes in 2d needs the out-of-plane thickness: add 'thickness <t>' "
+               "(the volume of a particle is its cell area times t)");
+  if (dim == 3 && thickness > 0.0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes thickness is for 2d simulations only");
+}
+
+/* ----------------------------------------------------------------------
+   lattice indices of the group's atoms (counted from the group's lowest
+   reference coordinates, per body), then every rank learns which of the
+   sites within three spacings of its atoms are occupied, by passing the
+   site lists around the ring of ranks
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::lattice_weights(std::vector<double> &volume)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  const tagint *molecule = atom->molecule;
+  double **x0 = atom->x0;
+
+  double lowest[3] = {0.0, 0.0, 0.0}, mine[3];
+  for (int a = 0; a < 3; a++) mine[a] = INFINITY;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit)
+      for (int a = 0; a < dim; a++) mine[a] = std::min(mine[a], x0[i][a]);
+  MPI_Allreduce(mine, lowest, 3, MPI_DOUBLE, MPI_MIN, world);
+
+  const double prd[3] = {domain->xprd, domain->yprd, domain->zprd};
+  for (int a = 0; a < 3; a++) {
+    period[a] = 0;
+    if (a >= dim || !domain->periodicity[a]) continue;
+    period[a] = std::llround(prd[a] / spacing);
+    if (std::fabs(prd[a] / spacing - (double) period[a]) > LATTICE_TOL)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes lattice: the periodic box length in {} ({}) is not a multiple "
+                 "of the spacing {}", "xyz"[a], prd[a], spacing);
+  }
+
+  local_site.clear();
+  std::vector<Site> sites;
+  for (int a = 0; a < 3; a++) {
+    lo[a] = LLONG_MAX;
+    hi[a] = LLONG_MIN;
+  }
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    Site s = {molecule ? (long long) molecule[i] : 0LL, 0, 0, 0};
+    for (int a = 0; a < dim; a++) {
+      const double u = (x0[i][a] - lowest[a]) / spacing;
+      const long long k = std::llround(u);
+      if (std::fabs(u - (double) k) > LATTICE_TOL)
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Set_sph_volumes lattice: atom {} at reference {} = {} is not on a lattice of "
+                   "spacing {} through the group's lowest coordinates; every atom of the group "
+                   "must sit on one cell-centred lattice (use polar for rings)",
+                   tag[i], "xyz"[a], x0[i][a], spacing);
+      s[a + 1] = wrap(k, period[a]);
+      lo[a] = std::min(lo[a], s[a + 1]);
+      hi[a] = std::max(hi[a], s[a + 1]);
+    }
+    const auto [it, fresh] = local_site.emplace(s, i);
+    if (!fresh)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes lattice: atoms {} and {} occupy the same lattice site (duplicate "
+                 "or coincident particles)", tag[it->second], tag[i]);
+    sites.push_back(s);
+  }
+
+  present.assign(nlocal, 0);
+  comm->ring((int) sites.size(), sizeof(Site), sites.data(), 0, mark_neighbours, nullptr,
+             (void *) this);
+
+  const double base = (dim == 2) ? spacing * spacing * thickness : spacing * spacing * spacing;
+  bigint nthin[3] = {0, 0, 0}, nthin_all[3];
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double w = 1.0;
+    for (int a = 0; a < dim; a++) {
+      const int below = run_to_end(present[i], a, 0), above = run_to_end(present[i], a, 1);
+      if (below + above + 1 < 3)
+        nthin[a]++;
+      else if (correct)
+        w += END_CORRECTION[below] + END_CORRECTION[above];
+    }
+    volume[i] = w * base;
+  }
+  MPI_Allreduce(nthin, nthin_all, 3, MPI_LMP_BIGINT, MPI_SUM, world);
+  for (int a = 0; a < dim; a++)
+    if (correct && nthin_all[a] && comm->me == 0)
+      error->warning(FLERR,
+                     "Set_sph_volumes: {} atoms lie on rows along {} of only 1 or 2 particles, "
+                     "where no end correction is exact; their volumes are not corrected along {} "
+                     "(use at least 3 particles across every part of the body)",
+                     nthin_all[a], "xyz"[a], "xyz"[a]);
+  local_site.clear();
+}
+
+/* ----------------------------------------------------------------------
+   ring callback: each received site tells the owned sites 1..3 spacings
+   below and above it along every axis that it is there
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::mark_neighbours(int n, char *buf, void *ptr)
+{
+  auto *self = (SetSPHVolumes *) ptr;
+  const auto *sites = (const Site *) buf;
+  for (int m = 0; m < n; m++) {
+    const Site &s = sites[m];
+    bool near = true;
+    for (int a = 0; a < self->dim; a++)
+      if (!self->period[a] && (s[a + 1] < self->lo[a] - 3 || s[a + 1] > self->hi[a] + 3))
+        near = false;
+    if (!near) continue;
+    for (int a = 0; a < self->dim; a++)
+      for (int offset = 1; offset <= 3; offset++)
+        for (int side = 0; side < 2; side++) {
+          // s lies 'offset' sites on 'side' of the site t
+          Site t = s;
+          t[a + 1] = wrap(s[a + 1] + (side ? -offset : offset), self->period[a]);
+          const auto it = self->local_site.find(t);
+          if (it != self->local_site.end())
+            self->present[it->second] |= present_bit(a, side, offset);
+        }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   concentric circles of radius r_k = r_min + k dr about the centre, each
+   evenly spaced in angle: the arc cell (2 pi r_k / n_k) dr t, corrected in
+   the radial direction.  The angular sum of n_k >= 3 evenly spaced points
+   is exact for the trigonometric terms of degree <= 2 that a quadratic
+   brings, and the corrected radial rule for r f(r), a cubic.
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::polar_weights(std::vector<double> &volume)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  double **x0 = atom->x0;
+
+  auto radius = [&](int i) { return std::hypot(x0[i][0] - centre[0], x0[i][1] - centre[1]); };
+  double rmine[2] = {INFINITY, -INFINITY}, r_lo, r_hi;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) {
+      rmine[0] = std::min(rmine[0], radius(i));
+      rmine[1] = std::max(rmine[1], radius(i));
+    }
+  MPI_Allreduce(&rmine[0], &r_lo, 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(&rmine[1], &r_hi, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (!std::isfinite(r_lo)) error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes: empty group");
+  if (r_lo < 0.5 * spacing * (1.0 - LATTICE_TOL))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes polar: an atom lies within half a layer spacing of the centre "
+               "({}, {}); polar volumes are for rings whose innermost layer is a circle",
+               centre[0], centre[1]);
+  const long long nlayer = std::llround((r_hi - r_lo) / spacing) + 1;
+  if (nlayer > 100000000)
+    error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes polar: {} layers; wrong spacing?",
+               nlayer);
+
+  // per layer: count and the first two angular moments sum exp(i m theta)
+  std::vector<int> layer(nlocal, -1);
+  std::vector<double> moments(5 * nlayer, 0.0), moments_all(5 * nlayer);
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const double u = (radius(i) - r_lo) / spacing;
+    const long long k = std::llround(u);
+    if (std::fabs(u - (double) k) > LATTICE_TOL)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes polar: atom {} at radius {} is not on a circle r = {} + k*{} "
+                 "about ({}, {})", tag[i], radius(i), r_lo, spacing, centre[0], centre[1]);
+    layer[i] = (int) k;
+    const double theta = std::atan2(x0[i][1] - centre[1], x0[i][0] - centre[0]);
+    double *m = &moments[5 * k];
+    m[0] += 1.0;
+    m[1] += std::cos(theta);
+    m[2] += std::sin(theta);
+    m[3] += std::cos(2.0 * theta);
+    m[4] += std::sin(2.0 * theta);
+  }
+  MPI_Allreduce(moments.data(), moments_all.data(), 5 * nlayer, MPI_DOUBLE, MPI_SUM, world);
+
+  for (long long k = 0; k < nlayer; k++) {
+    const double *m = &moments_all[5 * k];
+    if (m[0] == 0.0) continue;
+    const double r = r_lo + k * spacing;
+    if (m[0] < 3.0 || std::hypot(m[1], m[2]) > ANGLE_TOL * m[0] ||
+        std::hypot(m[3], m[4]) > ANGLE_TOL * m[0])
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes polar: the {} atoms on the circle of radius {} are not evenly "
+                 "spaced in angle (at least 3 are needed); polar volumes need every circle "
+                 "evenly filled", (bigint) m[0], r);
+  }
+
+  bigint nthin = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (layer[i] < 0) continue;
+    const long long k = layer[i];
+    int below = 0, above = 0;
+    while (below < 3 && k - below - 1 >= 0 && moments_all[5 * (k - below - 1)] > 0.0) below++;
+    while (above < 3 && k + above + 1 < nlayer && moments_all[5 * (k + above + 1)] > 0.0) above++;
+    double w = 1.0;
+    if (below + above + 1 < 3)
+      nthin++;
+    else if (correct)
+      w += END_CORRECTION[below] + END_CORRECTION[above];
+    const double r = r_lo + k * spacing;
+    volume[i] = w * thickness * spacing * r * MY_2PI / moments_all[5 * k];
+  }
+  bigint nthin_all;
+  MPI_Allreduce(&nthin, &nthin_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (correct && nthin_all && comm->me == 0)
+    error->warning(FLERR,
+                   "Set_sph_volumes polar: {} atoms lie in walls of only 1 or 2 layers, where no "
+                   "end correction is exact; their volumes are not corrected", nthin_all);
+}
+
+/* ----------------------------------------------------------------------
+   new volumes, and masses: density * V, or the atom's old m/V kept
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::assign(const std::vector<double> &volume, const char *groupname)
+{
+  const int *mask = atom->mask;
+  double *vfrac = atom->vfrac;
+  double *rmass = atom->rmass;
+  double sums[2] = {0.0, 0.0}, sums_all[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    if (density > 0.0)
+      rmass[i] = density * volume[i];
+    else if (vfrac[i] > 0.0)
+      rmass[i] *= volume[i] / vfrac[i];
+    else
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes: atom {} has no volume to keep its density from; give "
+                 "'density <rho>'", atom->tag[i]);
+    vfrac[i] = volume[i];
+    sums[0] += 1.0;
+    sums[1] += volume[i];
+  }
+  MPI_Allreduce(sums, sums_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  if (sums_all[0] == 0.0)
+    error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes: group {} has no atoms", groupname);
+  if (comm->me == 0)
+    utils::logmesg(lmp, "Set the volumes of {} atoms in group {} ({}): total volume {:.10g}\n",
+                   (bigint) sums_all[0], groupname,
+                   correct ? "surface-corrected" : "plain cells", sums_all[1]);
+}
