@@ -41,6 +41,7 @@ class PairSPHICB : public PairSPHElastic {
   double memory_usage() override;
   // atoms of this group carry no strain energy (mirror atoms of fix sph/mirror)
   void add_mirror_group(int groupbit) { mirror_groupbit |= groupbit; }
+  int mirror_groups() const { return mirror_groupbit; }
 
   // receives one d x d block d2E/dx_k dx_l of the Hessian, by atom IDs k and l
   using HessianSink = std::function<void(tagint, tagint, const double (*)[3])>;

@@ -1,0 +1,374 @@
+"""fix sph/traction (consistent surface loads) and the prescribed-displacement
+and sliding modes of fix sph/mirror.
+
+Patch tests: a block deformed by a uniform F and loaded on its faces by the
+tractions t = P(F) N of the exact uniform first Piola-Kirchhoff stress is in
+exact discrete equilibrium (every particle's net force vanishes to
+round-off); a block stretched between two prescribed-displacement mirror
+planes reaches the exact uniform stress of St. Venant-Kirchhoff's uniaxial
+answer at every particle, Poisson contraction included."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import make_lammps
+
+DX = 1.0e-3
+T = 1.0e-3
+E, NU = 2.0e9, 0.3
+
+
+def lame(dim, plane):
+    mu = E / (2 * (1 + NU))
+    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
+    if dim == 2 and plane == "stress":
+        lam = 2 * lam * mu / (lam + 2 * mu)
+    return lam, mu
+
+
+def pk1(F, dim, plane="stress"):
+    lam, mu = lame(dim, plane)
+    Fd = F[:dim, :dim]
+    G = 0.5 * (Fd.T @ Fd - np.eye(dim))
+    S = lam * np.trace(G) * np.eye(dim) + 2 * mu * G
+    return Fd @ S
+
+
+def block(lmp, n, dim, gradient="quadratic", volumes=True):
+    zr = "-0.5 0.5" if dim == 2 else f"0 {n[2]}"
+    lmp.commands_string(f"""
+        units si
+        dimension {dim}
+        boundary {'s s p' if dim == 2 else 's s s'}
+        atom_style sph/elastic
+        atom_modify map array
+        lattice {'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
+        region box block 0 {n[0]} 0 {n[1]} {zr}
+        create_box 1 box
+        create_atoms 1 box
+        set group all mol 1
+        set group all volume {DX ** dim * (T if dim == 2 else 1.0)}
+        set group all mass {1000 * DX ** dim * (T if dim == 2 else 1.0)}
+    """)
+    if volumes:
+        lmp.command(f"set_sph_volumes all lattice {DX}" + (f" thickness {T}" if dim == 2 else ""))
+    lmp.commands_string(f"""
+        pair_style sph/icb {1.2 * DX} stress pk1 gradient {gradient} {'plane stress' if dim == 2 else ''}
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+    """)
+
+
+def face_loads(lmp, P, n, dim):
+    """One fix per face: traction P N on the face with outward normal N."""
+    for a in range(dim):
+        for side, coord in ((-1, 0.0), (1, n[a] * DX)):
+            t = side * P[:, a]
+            values = " ".join(f"{v:.17g}" for v in t)
+            lmp.command(f"fix f{a}{side + 1} all sph/traction {'xyz'[a]} {coord} traction {values}")
+            lmp.command(f"fix_modify f{a}{side + 1} energy yes")
+
+
+def net_forces(lmp):
+    n = lmp.get_natoms()
+    return np.array(lmp.numpy.extract_atom("f")[:n], dtype=float)
+
+
+CASES_2D = {
+    "tension": np.diag([1.01, 1.0, 1.0]),
+    "compression": np.diag([0.97, 0.995, 1.0]),
+    "shear": np.array([[1.0, 0.004, 0], [0.004, 1.0, 0], [0, 0, 1.0]]),
+    "large": np.array([[1.2, 0.05, 0], [-0.03, 0.9, 0], [0, 0, 1.0]]),
+}
+
+
+@pytest.mark.parametrize("gradient", ["linear", "quadratic"])
+@pytest.mark.parametrize("volumes", [True, False])
+@pytest.mark.parametrize("case", list(CASES_2D))
+def test_uniform_stress_is_an_exact_equilibrium_2d(case, gradient, volumes):
+    F = CASES_2D[case]
+    n = (12, 9)
+    lmp = make_lammps()
+    block(lmp, n, 2, gradient, volumes)
+    lmp.command("run 0")
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    for i in range(lmp.get_natoms()):
+        x[i, :2] = F[:2, :2] @ x0[i, :2]
+    P = pk1(F, 2)
+    face_loads(lmp, P, n, 2)
+    lmp.command("run 0")
+    f = net_forces(lmp)
+    scale = np.abs(P).max() * DX * T
+    assert np.abs(f).max() < 1e-10 * scale
+    # and without the loads the boundary particles are far from equilibrium
+    for a in range(2):
+        for side in (0, 2):
+            lmp.command(f"unfix f{a}{side}")
+    lmp.command("run 0")
+    assert np.abs(net_forces(lmp)).max() > 0.1 * scale
+    lmp.close()
+
+
+def test_uniform_stress_is_an_exact_equilibrium_3d():
+    F = np.array([[1.02, 0.01, 0.0], [0.01, 0.99, 0.003], [0.0, 0.003, 1.01]])
+    n = (7, 6, 5)
+    lmp = make_lammps()
+    block(lmp, n, 3)
+    lmp.command("run 0")
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    for i in range(lmp.get_natoms()):
+        x[i] = F @ x0[i]
+    P = pk1(F, 3)
+    face_loads(lmp, P, n, 3)
+    lmp.command("run 0")
+    assert np.abs(net_forces(lmp)).max() < 1e-10 * np.abs(P).max() * DX ** 2
+    lmp.close()
+
+
+def test_face_load_resultant_is_traction_times_area():
+    """With plain cell volumes the consistent forces of a face sum to t
+    times the face area.  (With corrected volumes the particle model's
+    face area differs from A by about 1e-4: the uniform stress, not the
+    resultant, is what the consistent load reproduces exactly.)"""
+    n = (12, 9)
+    lmp = make_lammps()
+    block(lmp, n, 2, volumes=False)
+    lmp.command("fix load all sph/traction x 0.012 traction 1.5e6 -2.0e6")
+    lmp.command("run 0")
+    area = n[1] * DX * T
+    total = [lmp.extract_fix("load", 0, 1, k) for k in range(3)]
+    np.testing.assert_allclose(total, [1.5e6 * area, -2.0e6 * area, 0.0], rtol=1e-12, atol=1e-9)
+    lmp.close()
+
+
+def test_pressure_on_a_whole_surface_is_the_hydrostatic_equilibrium():
+    """p on every surface particle (no face given) balances sigma = -p I."""
+    J = 0.99
+    F = np.diag([J, J, 1.0])
+    n = (10, 8)
+    lmp = make_lammps()
+    block(lmp, n, 2)
+    lmp.command("run 0")
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    for i in range(lmp.get_natoms()):
+        x[i, :2] = F[:2, :2] @ x0[i, :2]
+    P = pk1(F, 2)
+    assert abs(P[0, 1]) < 1e-6 and np.isclose(P[0, 0], P[1, 1])
+    lmp.command(f"fix p all sph/traction surface pressure {-P[0, 0]:.17g}")
+    lmp.command("run 0")
+    assert np.abs(net_forces(lmp)).max() < 1e-10 * abs(P[0, 0]) * DX * T
+    lmp.close()
+
+
+def truss_tip(solver, Fx, nu=0.0, nx=20, ny=6, ranks_note=""):
+    """A bar clamped by a mirror at x = 0, pulled by a traction on x = L."""
+    lmp = make_lammps()
+    L, H = nx * DX, ny * DX
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block -3 {nx} 0 {ny} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass {1000 * DX * DX * T}
+        region clampzone block INF 0.0 INF INF INF INF units box
+        group clamp region clampzone
+        group body subtract all clamp
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
+        pair_coeff * * {E} {nu}
+        neighbor {0.5 * DX} bin
+        fix hold clamp sph/mirror x 0.0
+        fix load body sph/traction x {L} traction {Fx / (H * T)} 0.0
+        fix_modify load energy yes
+        compute ref all property/atom x0x
+        variable ux atom x-c_ref
+        group tip region tipzone
+    """.replace("group tip region tipzone", f"region tipzone block {L - DX} INF INF INF INF INF units box\ngroup tip region tipzone"))
+    lmp.commands_string("""
+        compute tipx tip reduce ave v_ux
+        thermo_style custom step pe fnorm c_tipx
+    """)
+    if solver == "newton":
+        lmp.command("min_style sph/newton")
+    else:
+        lmp.commands_string(f"min_style cg\nmin_modify dmax {0.1 * DX} line forcezero")
+    lmp.command(f"minimize 0 {1e-9 * abs(Fx)} 20000 20000")
+    tip = lmp.extract_compute("tipx", 0, 0)
+    lmp.close()
+    return tip, L, H
+
+
+@pytest.mark.parametrize("Fx", [300.0, -60.0])
+def test_truss_with_traction_is_exact(Fx):
+    """nu = 0: uniaxial SVK, P = E lam (lam^2 - 1)/2 = F/A, exact at every
+    point; the tip column's mean displacement is (lam - 1)(L - dx/2)."""
+    tip, L, H = truss_tip("newton", Fx)
+    from scipy.optimize import brentq
+    P = Fx / (H * T)
+    lam = brentq(lambda l: E * l * (l * l - 1) / 2 - P, 0.6, 1.5)
+    assert tip == pytest.approx((lam - 1) * (L - DX / 2), rel=1e-9)
+
+
+def test_traction_energy_is_seen_by_cg_and_newton_alike():
+    a, _, _ = truss_tip("newton", 300.0, nu=0.3)
+    b, _, _ = truss_tip("cg", 300.0, nu=0.3)
+    assert a == pytest.approx(b, rel=1e-6)
+
+
+def stretch_between_mirrors(delta, nu, slip, n=(16, 7), solver="newton"):
+    """Block on x in (0, L), y in (0, H) between the mirror planes x = 0 and
+    x = L, the latter displaced by delta.  With slip the planes are
+    symmetry planes and the body contracts freely; one atom's y is held to
+    take out the rigid slide (the exact answer is affine about it)."""
+    nx, ny = n
+    L = nx * DX
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block -3 {nx + 3} 0 {ny} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        region left block -3 0 INF INF INF INF
+        region right block {nx} {nx + 3} INF INF INF INF
+        region pin block 5 6 3 4 INF INF
+        group left region left
+        group right region right
+        group pin region pin
+        group mirrors union left right
+        group body subtract all mirrors
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass {1000 * DX * DX * T}
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
+        pair_coeff * * {E} {nu}
+        neighbor {0.5 * DX} bin
+        fix l left sph/mirror x 0.0 slip {'yes' if slip else 'no'}
+        fix r right sph/mirror x {L} displace {delta} 0.0 slip {'yes' if slip else 'no'}
+        fix p pin setforce NULL 0.0 NULL
+        compute s body sph/elastic/atom stress
+    """)
+    if solver == "newton":
+        lmp.command("min_style sph/newton")
+    else:
+        lmp.commands_string(f"min_style cg\nmin_modify dmax {0.1 * DX} line forcezero")
+    lmp.command("minimize 0 1e-6 2000 20000")
+    return lmp, L
+
+
+def uniaxial_cauchy(stretch, nu):
+    """SVK (plane stress lambda*) under uniaxial stress: sigma_xx."""
+    mu = E / (2 * (1 + nu))
+    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    lam = 2 * lam * mu / (lam + 2 * mu)
+    E11 = (stretch ** 2 - 1) / 2
+    E22 = -lam / (lam + 2 * mu) * E11
+    S11 = lam * (E11 + E22) + 2 * mu * E11
+    lat = np.sqrt(1 + 2 * E22)
+    return stretch * stretch * S11 / (stretch * lat)
+
+
+@pytest.mark.parametrize("nu, slip", [(0.0, False), (0.3, True), (0.0, True)])
+def test_prescribed_displacement_gives_the_exact_uniform_stress(nu, slip):
+    delta = 0.02 * 16 * DX
+    lmp, L = stretch_between_mirrors(delta, nu, slip)
+    n = lmp.get_natoms()
+    sigma = np.array(lmp.numpy.extract_compute("s", 1, 2)[:n])
+    x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
+    inside = (x0[:, 0] > 0) & (x0[:, 0] < L)
+    assert np.count_nonzero(inside) == 16 * 7
+    expect = uniaxial_cauchy(1.02, nu)
+    np.testing.assert_allclose(sigma[inside, 0], expect, rtol=1e-8)
+    np.testing.assert_allclose(sigma[inside, 1], 0.0, atol=1e-8 * expect)
+    np.testing.assert_allclose(sigma[inside, 3], 0.0, atol=1e-8 * expect)
+    lmp.close()
+
+
+def test_displacement_from_a_variable_ramps():
+    """displace v_name follows an equal-style variable through a run."""
+    lmp = make_lammps()
+    nx, ny = 10, 5
+    L = nx * DX
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block -3 {nx + 3} 0 {ny} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        region right block {nx} INF INF INF INF INF
+        group right region right
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass {1000 * DX * DX * T}
+        pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
+        pair_coeff * * {E} 0.0
+        fix nve all nve
+        variable u equal 1e-6*step
+        fix r right sph/mirror x {L} displace v_u 0.0
+        compute ref all property/atom x0x
+        variable ux atom x-c_ref
+        compute um right reduce ave v_ux
+        timestep 1e-9
+        run 10
+    """)
+    # mirror atoms at reference x_m sit at x_m + 2 u0 - u_source
+    n = lmp.get_natoms()
+    x = np.array(lmp.numpy.extract_atom("x")[:n])
+    x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
+    ids = np.array(lmp.numpy.extract_atom("id")[:n])
+    pos = {(round(a / DX - 0.5), round(b / DX - 0.5)): k for k, (a, b) in enumerate(x0[:, :2])}
+    u0 = 1e-6 * 10
+    checked = 0
+    for (i, j), k in pos.items():
+        if i >= nx:
+            s = pos[(2 * nx - 1 - i, j)]
+            us = x[s, 0] - x0[s, 0]
+            assert x[k, 0] - x0[k, 0] == pytest.approx(2 * u0 - us, abs=1e-15)
+            checked += 1
+    assert checked == 3 * ny
+    lmp.close()
+
+
+BAD = [
+    ("fix t all sph/traction q 0.01 traction 1 0", "must be x, y"),
+    ("fix t all sph/traction surface traction 1 0", "needs a face"),
+    ("fix t all sph/traction x 0.01 traction 1", "takes 2 values"),
+    ("fix t all sph/traction x 0.01 push 1 0", "use traction or pressure"),
+    ("fix t all sph/traction x 0.01 traction 1 0 5", "no z component"),
+    ("fix t all sph/traction x 0.005 traction 1 0\nrun 0", "both sides"),
+    ("fix t all sph/traction x 0.5 traction 1 0\nrun 0", "is 0.4905 from the nearest"),
+    ("fix t all sph/traction x 0.01 traction v_nope 0\nrun 0", "does not exist"),
+    ("fix m all sph/mirror x 0.0 displace 1", "displace takes 2 values"),
+    ("fix m all sph/mirror x 0.0 slip yes displace 0 1e-3", "only the normal"),
+    ("fix m all sph/mirror x 0.0 wobble 1", "Unknown fix sph/mirror keyword"),
+]
+
+
+@pytest.mark.parametrize("command, words", BAD)
+def test_bad_input_is_a_clear_error(command, words):
+    lmp = make_lammps()
+    block(lmp, (10, 5), 2)
+    with pytest.raises(Exception, match=words):
+        for line in command.split("\n"):
+            lmp.command(line)
+    lmp.close()

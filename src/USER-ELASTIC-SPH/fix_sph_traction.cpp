@@ -1,0 +1,407 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+
+   Consistent surface loads.  Under a uniform first Piola-Kirchhoff
+   stress P the internal force of pair sph/icb on particle i is
+     f_i = sum_j (V_i P g_ij - V_j P g_ji) = P b_i,
+     b_i = sum_j (V_i g_ij - V_j g_ji),
+   a vector of the reference configuration alone: zero in the interior
+   and minus the particle's share of the surface area vector near a
+   surface (within a few kernel supports: b_i involves the partners whose
+   own support or volumes the surface changes).  A traction t on the face with outward
+   normal N is carried by P = t (x) N, so the loads f_i = t (-N . b_i)
+   make that uniform stress an exact discrete equilibrium; a pressure p
+   (P = -p I) gives f_i = p b_i.  Spreading a load evenly over the last
+   column instead leaves boundary forces that no uniform stress balances.
+------------------------------------------------------------------------- */
+
+#include "fix_sph_traction.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_partners.h"
+#include "force.h"
+#include "group.h"
+#include "input.h"
+#include "modify.h"
+#include "pair_sph_icb.h"
+#include "update.h"
+#include "variable.h"
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+// an atom this close to the middle of a body (in kernel supports) is shared
+constexpr double SHARE_TOL = 1.0e-6;
+// load coefficients below this fraction of the largest are the interior's round-off
+constexpr double ROUNDOFF = 1.0e-13;
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   fix ID group sph/traction x|y|z coord traction tx ty [tz]
+   fix ID group sph/traction x|y|z coord pressure p
+   fix ID group sph/traction surface pressure p
+------------------------------------------------------------------------- */
+
+FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), pair(nullptr), reduced(0)
+{
+  if (narg < 6) utils::missing_cmd_args(FLERR, "fix sph/traction", error);
+  const int dim = domain->dimension;
+  int iarg = 3;
+  if (strcmp(arg[iarg], "surface") == 0) {
+    axis = -1;
+    plane = 0.0;
+    iarg += 1;
+  } else {
+    if (strcmp(arg[iarg], "x") == 0)
+      axis = 0;
+    else if (strcmp(arg[iarg], "y") == 0)
+      axis = 1;
+    else if (strcmp(arg[iarg], "z") == 0 && dim == 3)
+      axis = 2;
+    else
+      error->all(FLERR, iarg,
+                 "Fix sph/traction face must be x, y{} (the normal of the face plane) or "
+                 "surface, got {}", dim == 3 ? ", z" : "", arg[iarg]);
+    plane = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    iarg += 2;
+  }
+
+  if (iarg >= narg) utils::missing_cmd_args(FLERR, "fix sph/traction", error);
+  if (strcmp(arg[iarg], "traction") == 0) {
+    if (axis < 0)
+      error->all(FLERR, iarg,
+                 "Fix sph/traction traction needs a face (x, y or z and its position); a whole "
+                 "surface takes only a pressure");
+    load = TRACTION;
+    nvalues = dim;
+  } else if (strcmp(arg[iarg], "pressure") == 0) {
+    load = PRESSURE;
+    nvalues = 1;
+  } else {
+    error->all(FLERR, iarg, "Unknown fix sph/traction load {}: use traction or pressure",
+               arg[iarg]);
+  }
+  iarg++;
+  // a 2d traction may give a zero z component, as fix addforce users write it
+  const int given = narg - iarg;
+  if (!(given == nvalues || (load == TRACTION && dim == 2 && given == 3)))
+    error->all(FLERR, iarg,
+               "Fix sph/traction {} takes {} value{}, got {}: constants or v_name of equal-style "
+               "variables", load == TRACTION ? "traction" : "pressure", nvalues,
+               nvalues > 1 ? "s" : "", given);
+  for (int m = 0; m < 3; m++) {
+    value[m] = 0.0;
+    varindex[m] = -1;
+  }
+  for (int m = 0; m < given; m++) {
+    if (utils::strmatch(arg[iarg + m], "^v_"))
+      varname[m] = arg[iarg + m] + 2;
+    else
+      value[m] = utils::numeric(FLERR, arg[iarg + m], false, lmp);
+  }
+  if (load == TRACTION && dim == 2 && given == 3 && (!varname[2].empty() || value[2] != 0.0))
+    error->all(FLERR, iarg + 2, "Fix sph/traction: a 2d traction has no z component");
+
+  for (double &n : normal) n = 0.0;
+  scalar_flag = 1;
+  vector_flag = 1;
+  size_vector = 3;
+  global_freq = 1;
+  extscalar = 1;
+  extvector = 1;
+  energy_global_flag = 1;
+  dynamic_group_allow = 0;
+  respa_level_support = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHTraction::setmask()
+{
+  return POST_FORCE | MIN_POST_FORCE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHTraction::init()
+{
+  pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/traction requires pair_style sph/icb: its loads balance that scheme's "
+               "internal forces (with another pair style use fix addforce)");
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR, Error::NOLASTLINE, "Fix sph/traction does not support run_style respa");
+  for (int m = 0; m < 3; m++) {
+    if (varname[m].empty()) continue;
+    varindex[m] = input->variable->find(varname[m].c_str());
+    if (varindex[m] < 0)
+      error->all(FLERR, Error::NOLASTLINE, "Variable {} for fix sph/traction does not exist",
+                 varname[m]);
+    if (!input->variable->equalstyle(varindex[m]))
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Variable {} for fix sph/traction must be equal-style (a load that is the same "
+                 "over the face)", varname[m]);
+  }
+  support = pair->get_kernel().support();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHTraction::setup(int vflag)
+{
+  find_side();
+  build_coefficients();
+  post_force(vflag);
+}
+
+void FixSPHTraction::min_setup(int vflag)
+{
+  setup(vflag);
+}
+
+void FixSPHTraction::min_post_force(int vflag)
+{
+  post_force(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   the face's outward normal points from the group's atoms towards the
+   plane; atoms on both sides mean the plane cuts the body.  A face owns
+   the shares of b_i of the atoms nearer to it than to the opposite side
+   of the group (found as far behind the group's farthest layer as the
+   plane is ahead of its nearest one); an atom on the middle plane counts
+   half.  In a body much thicker than the kernel the b_i between the
+   faces vanish, and where the faces' reaches overlap this splits them
+   the way a uniform stress loads both.
+------------------------------------------------------------------------- */
+
+void FixSPHTraction::find_side()
+{
+  if (axis < 0) return;
+  double **x0 = atom->x0;
+  const int *mask = atom->mask;
+  const int mirrorbits = pair->mirror_groups();
+  bigint side[2] = {0, 0}, side_all[2];
+  double extent[2] = {-INFINITY, -INFINITY}, extent_all[2];    // max and -min of X along axis
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || (mask[i] & mirrorbits)) continue;
+    side[plane > x0[i][axis] ? 0 : 1]++;
+    extent[0] = std::max(extent[0], x0[i][axis]);
+    extent[1] = std::max(extent[1], -x0[i][axis]);
+  }
+  MPI_Allreduce(side, side_all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Allreduce(extent, extent_all, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (side_all[0] + side_all[1] == 0)
+    error->all(FLERR, Error::NOLASTLINE, "Fix {} sph/traction: group {} has no body atoms", id,
+               group->names[igroup]);
+  if (side_all[0] && side_all[1])
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/traction: group {} has atoms on both sides of the face {} = {}; the "
+               "face must be a surface of the body (restrict the group to one side)",
+               id, group->names[igroup], "xyz"[axis], plane);
+  for (double &n : normal) n = 0.0;
+  normal[axis] = side_all[0] ? 1.0 : -1.0;
+  const double nearest = side_all[0] ? extent_all[0] : -extent_all[1];
+  const double farthest = side_all[0] ? -extent_all[1] : extent_all[0];
+  const double gap = std::fabs(plane - nearest);
+  if (gap > 0.5 * support)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/traction: the face {} = {} is {} from the nearest atom of group {}, "
+               "more than a smoothing length; put the face half a particle spacing beyond the "
+               "body's outermost layer", id, "xyz"[axis], plane, gap, group->names[igroup]);
+  half_thickness = 0.5 * (std::fabs(plane - farthest) + gap);
+}
+
+/* ----------------------------------------------------------------------
+   share of atom i's b_i that belongs to this face
+------------------------------------------------------------------------- */
+
+double FixSPHTraction::face_weight(int i) const
+{
+  if (axis < 0) return 1.0;
+  const double d = (plane - atom->x0[i][axis]) * normal[axis];
+  const double tol = SHARE_TOL * support;
+  if (d < -tol || d > half_thickness + tol) return 0.0;
+  if (std::fabs(d - half_thickness) <= tol) return 0.5;
+  return 1.0;
+}
+
+/* ----------------------------------------------------------------------
+   b_i = sum_j (V_i g_ij - V_j g_ji); mirror atoms of fix sph/mirror carry
+   no stress, so their g_ji terms drop out
+------------------------------------------------------------------------- */
+
+void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
+{
+  const FixSPHPartners *partners = pair->get_partners();
+  const double *vfrac = atom->vfrac;
+  const int *mask = atom->mask;
+  const int mirrorbits = pair->mirror_groups();
+  const double *pd = partners->pdata[i];
+  b[0] = b[1] = b[2] = 0.0;
+  for (int k = 0; k < partners->npartner[i]; k++) {
+    const int j = jl[k];
+    const double vj = (mask[j] & mirrorbits) ? 0.0 : vfrac[j];
+    const double *g = &pd[k * FixSPHPartners::NPDATA];
+    for (int a = 0; a < 3; a++)
+      b[a] += vfrac[i] * g[FixSPHPartners::GIJ + a] - vj * g[FixSPHPartners::GJI + a];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the load coefficients of the atoms this face or surface loads: the area
+   -w N . b_i of a face (first entry) or the vector b_i of a surface, kept
+   where not zero to round-off and shared by all ranks (a face is a small
+   part of the body), so they follow the atoms through migration.  Warns if
+   atoms outside the group would take a share.
+------------------------------------------------------------------------- */
+
+void FixSPHTraction::build_coefficients()
+{
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  const int mirrorbits = pair->mirror_groups();
+  std::vector<double> mine;
+  double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (mask[i] & mirrorbits) continue;
+    if (axis < 0 && !(mask[i] & groupbit)) continue;
+    const double w = face_weight(i);
+    if (w == 0.0) continue;
+    const int *jl = pair->partner_indices(i);
+    if (!jl)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/traction: the partner indices of atom {} are not current; the pair "
+                 "forces must be computed before this fix", id, tag[i]);
+    double b[3];
+    consistent_area(i, jl, b);
+    double c[3] = {b[0], b[1], b[2]};
+    if (axis >= 0) c[0] = -w * normal[axis] * b[axis], c[1] = c[2] = 0.0;
+    const double size = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    share[(mask[i] & groupbit) ? 0 : 1] += size;
+    share[2] = std::max(share[2], size);
+    if (mask[i] & groupbit) mine.insert(mine.end(), {(double) tag[i], c[0], c[1], c[2]});
+  }
+  MPI_Allreduce(share, share_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&share[2], &share_all[2], 1, MPI_DOUBLE, MPI_MAX, world);
+  if (axis >= 0 && share_all[1] > 1.0e-8 * share_all[0] && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix {} sph/traction: atoms outside group {} near the face {} = {} carry "
+                   "{:.3g} % of its area and get no load; the group should hold the body's atoms "
+                   "near the face", id, group->names[igroup], "xyz"[axis], plane,
+                   100.0 * share_all[1] / (share_all[0] + share_all[1]));
+
+  // drop the round-off of the interior
+  std::vector<double> kept;
+  for (size_t m = 0; m < mine.size(); m += 4) {
+    const double *c = &mine[m + 1];
+    if (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) > ROUNDOFF * share_all[2])
+      kept.insert(kept.end(), mine.begin() + m, mine.begin() + m + 4);
+  }
+  int nmine = (int) kept.size();
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(kept.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, world);
+  coefficient.clear();
+  for (size_t m = 0; m < all.size(); m += 4)
+    coefficient[(tagint) all[m]] = {all[m + 1], all[m + 2], all[m + 3]};
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHTraction::evaluate_values()
+{
+  bool any = false;
+  for (int m = 0; m < 3; m++) any = any || varindex[m] >= 0;
+  if (!any) return;
+  modify->clearstep_compute();
+  for (int m = 0; m < 3; m++)
+    if (varindex[m] >= 0) value[m] = input->variable->compute_equal(varindex[m]);
+  modify->addstep_compute(update->ntimestep + 1);
+}
+
+/* ----------------------------------------------------------------------
+   f_i += t (-N . b_i) on a face, f_i += p b_i on a surface; the load's
+   potential -f_i . (x_i - X_i) goes to the energy (fix_modify energy yes)
+------------------------------------------------------------------------- */
+
+void FixSPHTraction::post_force(int /*vflag*/)
+{
+  evaluate_values();
+  double t[3] = {value[0], value[1], value[2]};
+  if (load == PRESSURE && axis >= 0)
+    for (int a = 0; a < 3; a++) t[a] = -value[0] * normal[a];
+
+  double **x = atom->x;
+  double **x0 = atom->x0;
+  double **f = atom->f;
+  const imageint *image = atom->image;
+  for (double &e : energy_force) e = 0.0;
+  reduced = 0;
+
+  for (const auto &[id_atom, c] : coefficient) {
+    const int i = atom->map(id_atom);
+    if (i < 0 || i >= atom->nlocal) continue;
+    double fadd[3];
+    for (int a = 0; a < 3; a++) fadd[a] = (axis >= 0) ? t[a] * c[0] : value[0] * c[a];
+    double unwrap[3];
+    domain->unmap(x[i], image[i], unwrap);
+    for (int a = 0; a < 3; a++) {
+      f[i][a] += fadd[a];
+      energy_force[0] -= fadd[a] * (unwrap[a] - x0[i][a]);
+      energy_force[1 + a] += fadd[a];
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   potential energy of the load
+------------------------------------------------------------------------- */
+
+double FixSPHTraction::compute_scalar()
+{
+  if (!reduced) {
+    MPI_Allreduce(energy_force, energy_force_all, 4, MPI_DOUBLE, MPI_SUM, world);
+    reduced = 1;
+  }
+  return energy_force_all[0];
+}
+
+/* ----------------------------------------------------------------------
+   total force the fix applies
+------------------------------------------------------------------------- */
+
+double FixSPHTraction::compute_vector(int n)
+{
+  if (!reduced) {
+    MPI_Allreduce(energy_force, energy_force_all, 4, MPI_DOUBLE, MPI_SUM, world);
+    reduced = 1;
+  }
+  return energy_force_all[n + 1];
+}

@@ -1,0 +1,79 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sph/traction,FixSPHTraction);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_TRACTION_H
+#define LMP_FIX_SPH_TRACTION_H
+
+#include "fix.h"
+
+#include <array>
+#include <string>
+#include <unordered_map>
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   a dead-load traction (force per reference area) or pressure on a face
+   of a body of pair sph/icb, applied as the particle forces that balance
+   the uniform stress carrying it, so a uniform stress is an exact
+   equilibrium of the particle model
+------------------------------------------------------------------------- */
+
+class FixSPHTraction : public Fix {
+ public:
+  FixSPHTraction(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void setup(int) override;
+  void min_setup(int) override;
+  void post_force(int) override;
+  void min_post_force(int) override;
+  double compute_scalar() override;
+  double compute_vector(int) override;
+
+ private:
+  enum { TRACTION, PRESSURE };
+  int load;                    // TRACTION or PRESSURE
+  int axis;                    // normal of the face plane, -1 for a whole surface
+  double plane;                // face position (reference coordinates)
+  double normal[3];            // outward unit normal of the face
+  double value[3];             // traction vector, or the pressure in value[0]
+  std::string varname[3];      // equal-style variables, empty for constants
+  int varindex[3];
+  int nvalues;
+  double support;              // kernel support 2h
+  double half_thickness;       // atoms nearer to the face than this are its own
+  // load coefficient of each loaded atom by ID: the face area share (first
+  // entry) or a surface's vector b_i; the same on every rank
+  std::unordered_map<tagint, std::array<double, 3>> coefficient;
+  class PairSPHICB *pair;
+  double energy_force[4], energy_force_all[4];    // load potential, total applied force
+  int reduced;
+
+  void find_side();
+  double face_weight(int) const;
+  void evaluate_values();
+  void consistent_area(int i, const int *jl, double *b) const;
+  void build_coefficients();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
