@@ -19,6 +19,10 @@
    and the clamp adds no strain energy of its own.  Holding the clamp
    columns fixed instead counts their strain energy and makes the body
    behave as if clamped about one particle spacing behind the plane.
+   With u(X') = 2 u0 - u(X) the plane moves by a prescribed u0 (a loading
+   platen); mirroring only the normal component and copying the others
+   makes a symmetry plane the body slides on.  Both continue any affine
+   field that satisfies the condition, so a uniform strain stays exact.
 ------------------------------------------------------------------------- */
 
 #include "fix_sph_mirror.h"
@@ -27,11 +31,15 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
+#include "input.h"
 #include "memory.h"
+#include "modify.h"
 #include "pair_sph_icb.h"
 #include "update.h"
+#include "variable.h"
 
 #include <array>
 #include <cmath>
@@ -48,7 +56,7 @@ namespace {
 constexpr double MATCH_TOL = 1.0e-6;
 // hash cells for matching, much larger than the tolerance
 constexpr double CELL_SIZE = 1.0e-4;
-constexpr int NPACK = 4;    // atom ID and reference position per gathered atom
+constexpr int NPACK = 6;    // atom ID, reference position, volume and mass per gathered atom
 
 using CellKey = std::array<long long, 3>;
 
@@ -78,9 +86,6 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), fsource(nullptr), nmax(0)
 {
   if (narg < 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
-  if (narg > 5)
-    error->all(FLERR, 5, "Fix sph/mirror takes two arguments, the plane normal and position; "
-               "unexpected '{}'", arg[5]);
   if (strcmp(arg[3], "x") == 0)
     axis = 0;
   else if (strcmp(arg[3], "y") == 0)
@@ -92,10 +97,70 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
   if (axis == 2 && domain->dimension == 2)
     error->all(FLERR, 3, "Fix sph/mirror plane normal z is not allowed in a 2d simulation");
   plane = utils::numeric(FLERR, arg[4], false, lmp);
+  parse_keywords(5, narg, arg);
 
   comm_forward = 3;
   comm_reverse = 3;
+  comm_what = COMM_POSITION;
   dynamic_group_allow = 0;
+}
+
+/* ----------------------------------------------------------------------
+   displace ux uy [uz]: prescribed displacement of the plane (constants or
+   v_name of equal-style variables); slip yes|no: tangential components
+   slide freely (symmetry plane) instead of being clamped
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
+{
+  const int dim = domain->dimension;
+  for (int a = 0; a < 3; a++) {
+    mirror_sign[a] = -1.0;
+    disp[a] = 0.0;
+    dispindex[a] = -1;
+  }
+  bool slip = false;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "slip") == 0) {
+      if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "fix sph/mirror slip", error);
+      slip = utils::logical(FLERR, arg[iarg + 1], false, lmp) == 1;
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "displace") == 0) {
+      int given = 0;
+      while (given < 3 && iarg + 1 + given < narg &&
+             (utils::strmatch(arg[iarg + 1 + given], "^v_") ||
+              utils::is_double(arg[iarg + 1 + given])))
+        given++;
+      if (given != dim && !(dim == 2 && given == 3))
+        error->all(FLERR, iarg,
+                   "Fix sph/mirror displace takes {} values (the plane's displacement, constants "
+                   "or v_name of equal-style variables), got {}", dim, given);
+      for (int a = 0; a < given; a++) {
+        const char *word = arg[iarg + 1 + a];
+        if (utils::strmatch(word, "^v_"))
+          dispvar[a] = word + 2;
+        else
+          disp[a] = utils::numeric(FLERR, word, false, lmp);
+      }
+      if (dim == 2 && given == 3 && (!dispvar[2].empty() || disp[2] != 0.0))
+        error->all(FLERR, iarg + 3, "Fix sph/mirror: a 2d displacement has no z component");
+      iarg += 1 + given;
+    } else {
+      error->all(FLERR, iarg,
+                 "Unknown fix sph/mirror keyword {}: after the plane come 'displace ux uy [uz]' "
+                 "and 'slip yes|no'", arg[iarg]);
+    }
+  }
+  if (slip) {
+    for (int a = 0; a < 3; a++)
+      if (a != axis) {
+        mirror_sign[a] = 1.0;
+        if (!dispvar[a].empty() || disp[a] != 0.0)
+          error->all(FLERR, Error::NOLASTLINE,
+                     "Fix sph/mirror: with slip yes the body slides along the plane; only the "
+                     "normal ({}) component of displace can be prescribed", "xyz"[axis]);
+      }
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -130,6 +195,29 @@ void FixSPHMirror::init()
   pair->add_mirror_group(groupbit);
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/mirror does not support run_style respa");
+  for (int a = 0; a < 3; a++) {
+    if (dispvar[a].empty()) continue;
+    dispindex[a] = input->variable->find(dispvar[a].c_str());
+    if (dispindex[a] < 0)
+      error->all(FLERR, Error::NOLASTLINE, "Variable {} for fix sph/mirror does not exist",
+                 dispvar[a]);
+    if (!input->variable->equalstyle(dispindex[a]))
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Variable {} for fix sph/mirror displace must be equal-style", dispvar[a]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   current prescribed displacement of the plane
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::evaluate_displacement()
+{
+  if (dispindex[0] < 0 && dispindex[1] < 0 && dispindex[2] < 0) return;
+  modify->clearstep_compute();
+  for (int a = 0; a < 3; a++)
+    if (dispindex[a] >= 0) disp[a] = input->variable->compute_equal(dispindex[a]);
+  modify->addstep_compute(update->ntimestep + 1);
 }
 
 /* ----------------------------------------------------------------------
@@ -140,6 +228,7 @@ void FixSPHMirror::init()
 void FixSPHMirror::setup_pre_force(int /*vflag*/)
 {
   pair_up();
+  evaluate_displacement();
   place_mirrors();
 }
 
@@ -155,11 +244,13 @@ void FixSPHMirror::min_setup(int vflag)
 
 void FixSPHMirror::pre_force(int /*vflag*/)
 {
+  evaluate_displacement();
   place_mirrors();
 }
 
 void FixSPHMirror::min_pre_force(int /*vflag*/)
 {
+  evaluate_displacement();
   place_mirrors();
 }
 
@@ -214,7 +305,8 @@ void FixSPHMirror::pair_up()
     const bool mirror = mask[i] & groupbit;
     if (!mirror && std::fabs(x0[i][axis] - plane) > dmax + tol) continue;
     auto &dest = mirror ? mirrors_mine : cands_mine;
-    dest.insert(dest.end(), {(double) tag[i], x0[i][0], x0[i][1], x0[i][2]});
+    dest.insert(dest.end(),
+                {(double) tag[i], x0[i][0], x0[i][1], x0[i][2], atom->vfrac[i], atom->rmass[i]});
   }
   const auto mirrors = gather_all(mirrors_mine, world, comm->nprocs);
   const auto cands = gather_all(cands_mine, world, comm->nprocs);
@@ -230,6 +322,7 @@ void FixSPHMirror::pair_up()
     want[axis] = 2.0 * plane - want[axis];
     const CellKey centre = cell_of(want, cell);
     tagint found = -1;
+    int found_at = -1;
     // the source may sit in a neighbouring hash cell after round-off
     for (int a = -1; a <= 1 && found < 0; a++)
       for (int b = -1; b <= 1 && found < 0; b++)
@@ -240,7 +333,10 @@ void FixSPHMirror::pair_up()
             const double *X = &cands[c * NPACK + 1];
             const double d2 = (X[0] - want[0]) * (X[0] - want[0]) +
                 (X[1] - want[1]) * (X[1] - want[1]) + (X[2] - want[2]) * (X[2] - want[2]);
-            if (d2 <= tol * tol) found = (tagint) cands[c * NPACK];
+            if (d2 <= tol * tol) {
+              found = (tagint) cands[c * NPACK];
+              found_at = c;
+            }
           }
         }
     if (found < 0)
@@ -251,7 +347,36 @@ void FixSPHMirror::pair_up()
                  id, gtag, group->names[igroup], mirrors[g * NPACK + 1], mirrors[g * NPACK + 2],
                  mirrors[g * NPACK + 3], want[0], want[1], want[2], "xyz"[axis], plane);
     source[gtag] = found;
+    copy_volume(gtag, cands[found_at * NPACK + 4], cands[found_at * NPACK + 5]);
   }
+  comm_what = COMM_VOLUME;
+  comm->forward_comm(this);
+  comm_what = COMM_POSITION;
+}
+
+/* ----------------------------------------------------------------------
+   a mirror atom stands for its source, so it has the source's volume and
+   mass: then the kernel support of the first layers is the mirror image of
+   a complete one, and a body whose volumes were corrected for surfaces
+   (set_sph_volumes, applied through the mirror plane, which is no surface)
+   keeps a uniform strain exact.  Possible only before the reference
+   partners are built from the volumes.
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
+{
+  const int i = atom->map(mirror);
+  if (i < 0 || i >= atom->nlocal) return;
+  if (atom->vfrac[i] == volume && atom->rmass[i] == mass) return;
+  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  if (pair && pair->get_partners() && pair->get_partners()->built())
+    error->one(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: mirror atom {} has volume {} but its source {}; the reference "
+               "partners were built before this fix could copy the source's (define fix "
+               "sph/mirror before the first run, or set equal volumes)", id, mirror,
+               atom->vfrac[i], volume);
+  atom->vfrac[i] = volume;
+  atom->rmass[i] = mass;
 }
 
 /* ----------------------------------------------------------------------
@@ -277,8 +402,9 @@ int FixSPHMirror::local_source(int i)
 }
 
 /* ----------------------------------------------------------------------
-   x_mirror = X_mirror - u_source, kept next to the mirror's current periodic
-   copy; then the new positions are sent to the ghost copies of the mirrors
+   x_mirror = X_mirror + 2 u0 - u_source along the odd (clamped) axes and
+   X_mirror + u_source along the sliding ones, kept next to the mirror's
+   current periodic copy; then the new positions go to the mirrors' ghosts
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::place_mirrors()
@@ -298,8 +424,9 @@ void FixSPHMirror::place_mirrors()
   for (const auto &[i, j] : links) {
     double u[3] = {x[j][0] - x0[j][0], x[j][1] - x0[j][1], x[j][2] - x0[j][2]};
     domain->minimum_image(u);
-    double shift[3] = {x0[i][0] - u[0] - x[i][0], x0[i][1] - u[1] - x[i][1],
-                       x0[i][2] - u[2] - x[i][2]};
+    double shift[3];
+    for (int a = 0; a < 3; a++)
+      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * disp[a] - u[a] : u[a]) - x[i][a];
     domain->minimum_image(shift);
     for (int a = 0; a < 3; a++) {
       x[i][a] += shift[a];
@@ -310,8 +437,9 @@ void FixSPHMirror::place_mirrors()
 }
 
 /* ----------------------------------------------------------------------
-   the mirror moves by minus its source's displacement, so the force on the
-   mirror acts on the source with the opposite sign; the mirror keeps none
+   along an odd axis the mirror moves by minus its source's displacement,
+   so the force on the mirror acts on the source with the opposite sign
+   (the same sign along a sliding axis); the mirror keeps none
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::hand_over_forces()
@@ -327,7 +455,7 @@ void FixSPHMirror::hand_over_forces()
   double **f = atom->f;
   for (const auto &[i, j] : links)
     for (int a = 0; a < 3; a++) {
-      fsource[j][a] -= f[i][a];
+      fsource[j][a] += mirror_sign[a] * f[i][a];
       f[i][a] = 0.0;
     }
   comm->reverse_comm(this);
@@ -339,6 +467,14 @@ void FixSPHMirror::hand_over_forces()
 
 int FixSPHMirror::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
+  int m = 0;
+  if (comm_what == COMM_VOLUME) {
+    for (int k = 0; k < n; k++) {
+      buf[m++] = atom->vfrac[list[k]];
+      buf[m++] = atom->rmass[list[k]];
+    }
+    return m;
+  }
   double **x = atom->x;
   double shift[3] = {0.0, 0.0, 0.0};
   if (pbc_flag) {
@@ -351,7 +487,6 @@ int FixSPHMirror::pack_forward_comm(int n, int *list, double *buf, int pbc_flag,
     }
     shift[2] = pbc[2] * domain->zprd;
   }
-  int m = 0;
   for (int k = 0; k < n; k++) {
     const int j = list[k];
     buf[m++] = x[j][0] + shift[0];
@@ -365,8 +500,15 @@ int FixSPHMirror::pack_forward_comm(int n, int *list, double *buf, int pbc_flag,
 
 void FixSPHMirror::unpack_forward_comm(int n, int first, double *buf)
 {
-  double **x = atom->x;
   int m = 0;
+  if (comm_what == COMM_VOLUME) {
+    for (int i = first; i < first + n; i++) {
+      atom->vfrac[i] = buf[m++];
+      atom->rmass[i] = buf[m++];
+    }
+    return;
+  }
+  double **x = atom->x;
   for (int i = first; i < first + n; i++) {
     x[i][0] = buf[m++];
     x[i][1] = buf[m++];

@@ -23,6 +23,7 @@ FixStyle(sph/mirror,FixSPHMirror);
 #include "fix.h"
 
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -31,10 +32,12 @@ namespace LAMMPS_NS {
 /* ----------------------------------------------------------------------
    odd-mirror clamp for pair sph/icb: each atom of the group (a mirror
    atom) follows the body atom at its mirrored reference position (its
-   source) with minus that atom's displacement, so the displacement
-   vanishes on the plane.  Mirror atoms carry no strain energy; the forces
-   on them are handed to their sources (chain rule of the constraint),
-   their own f and v are zero.
+   source) with 2 u0 minus that atom's displacement, so the displacement
+   is u0 on the plane (0 unless 'displace' is given).  With 'slip yes'
+   only the normal component is mirrored that way and the tangential ones
+   are copied: a symmetry plane on which the body slides freely.  Mirror
+   atoms carry no strain energy; the forces on them are handed to their
+   sources (chain rule of the constraint), their own f and v are zero.
 ------------------------------------------------------------------------- */
 
 class FixSPHMirror : public Fix {
@@ -57,16 +60,27 @@ class FixSPHMirror : public Fix {
   double memory_usage() override;
   // mirror atom ID -> source atom ID, the same on every rank
   const std::map<tagint, tagint> &mirror_sources() const { return source; }
+  // d x_mirror / d x_source along each axis: -1 (odd) or +1 (slip, tangential)
+  double sign(int a) const { return mirror_sign[a]; }
 
  private:
   int axis;                        // normal of the mirror plane: 0, 1, 2 = x, y, z
   double plane;                    // its position (reference coordinates)
+  double mirror_sign[3];           // -1 odd (clamped) component, +1 even (sliding)
+  double disp[3];                  // prescribed displacement u0 of the plane
+  std::string dispvar[3];          // equal-style variables for u0, empty for constants
+  int dispindex[3];
   std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
   double **fsource;                   // forces handed to sources, owned + ghost atoms
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
   int nmax;
+  enum { COMM_POSITION, COMM_VOLUME };
+  int comm_what;                   // what forward comm carries
 
+  void parse_keywords(int, int, char **);
+  void evaluate_displacement();
   void pair_up();
+  void copy_volume(tagint, double, double);
   int local_source(int i);
   void place_mirrors();
   void hand_over_forces();

@@ -63,7 +63,7 @@ constexpr double ROUNDOFF = 1.0e-13;      // relative energy change below round-
 constexpr int ROUNDOFF_WINDOW = 10;       // steps below round-off that must cut |f| by 10 %
 constexpr int MAXSHIFT = 30;              // diagonal shifts tried on an indefinite Hessian
 constexpr double EPS_ENERGY = 1.0e-8;     // as in min_cg.cpp: keeps the etol test meaningful near E = 0
-enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3 };
+enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3, MIRROR_EVEN = 4 };
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
 #ifdef ESPH_HAVE_CHOLMOD
 constexpr bool HAVE_CHOLMOD = true;
@@ -376,13 +376,18 @@ void MinSPHNewton::find_constraints()
   const tagint *tag = atom->tag;
   double **f = atom->f;
 
+  // mirror atom -> source; source -> its mirrors and the fix that ties them
   std::unordered_map<tagint, tagint> source_of;
-  std::unordered_map<tagint, std::vector<tagint>> mirrors_of;
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
-    for (const auto &[m, s] : dynamic_cast<FixSPHMirror *>(fix)->mirror_sources()) {
+  std::unordered_map<tagint, std::vector<std::pair<tagint, const FixSPHMirror *>>> mirrors_of;
+  std::unordered_map<tagint, const FixSPHMirror *> fix_of;
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    for (const auto &[m, s] : mirror->mirror_sources()) {
       source_of[m] = s;
-      mirrors_of[s].push_back(m);
+      mirrors_of[s].emplace_back(m, mirror);
+      fix_of[m] = mirror;
     }
+  }
 
   std::vector<double> with_probe(3 * nlocal), without(3 * nlocal);
   for (int pass = 0; pass < 2; pass++) {
@@ -406,13 +411,13 @@ void MinSPHNewton::find_constraints()
       if (mirror != source_of.end()) {
         expected = size = 0.0;
       } else if (mirrors_of.count(tag[i])) {
-        for (tagint m : mirrors_of[tag[i]]) {
-          expected -= probe_value(m, a);
+        for (const auto &[m, mirror] : mirrors_of[tag[i]]) {
+          expected += mirror->sign(a) * probe_value(m, a);
           size += probe_value(m, a);
         }
       }
       if (mirror != source_of.end() && change == 0.0) {
-        status[dof] = MIRROR;
+        status[dof] = fix_of[tag[i]]->sign(a) < 0.0 ? MIRROR : MIRROR_EVEN;
         source[dof] = mirror->second;
       } else if (change == 0.0) {
         status[dof] = HELD;
@@ -433,18 +438,20 @@ void MinSPHNewton::find_constraints()
   // every rank numbers the free coordinates the same way
   reduced.assign(ndof, -1);
   dofsign.assign(ndof, 1);
+  tied.assign(ndof, 0);
   nfree = 0;
   for (bigint dof = 0; dof < ndof; dof++)
     if (status_all[dof] == FREE) reduced[dof] = nfree++;
   for (bigint dof = 0; dof < ndof; dof++)
-    if (status_all[dof] == MIRROR) {
+    if (status_all[dof] == MIRROR || status_all[dof] == MIRROR_EVEN) {
       const bigint src = (source_all[dof] - 1) * dim + dof % dim;
-      if (status_all[src] == MIRROR)
+      if (status_all[src] == MIRROR || status_all[src] == MIRROR_EVEN)
         error->all(FLERR, Error::NOLASTLINE,
                    "Min_style sph/newton: mirror atom {} has a mirror atom as its source",
                    dof / dim + 1);
       reduced[dof] = reduced[src];
-      dofsign[dof] = -1;
+      dofsign[dof] = (status_all[dof] == MIRROR) ? -1 : 1;
+      tied[dof] = 1;
     } else if (status_all[dof] == UNKNOWN) {
       error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}", dof / dim + 1);
     }
@@ -481,7 +488,7 @@ void MinSPHNewton::assemble_and_solve()
   for (int i = 0; i < atom->nlocal; i++)
     for (int a = 0; a < dim; a++) {
       const bigint dof = (tag[i] - 1) * dim + a;
-      if (reduced[dof] >= 0 && dofsign[dof] > 0) local[reduced[dof]] = f[i][a];
+      if (reduced[dof] >= 0 && !tied[dof]) local[reduced[dof]] = f[i][a];
     }
   MPI_Reduce(local.data(), rhs.data(), nfree, MPI_DOUBLE, MPI_SUM, 0, world);
 

@@ -51,7 +51,8 @@ class MinSPHNewton : public MinLineSearch {
   int dim;
   bigint nfree;                        // unconstrained degrees of freedom
   std::vector<int> reduced;            // dof (tag-1)*dim+a -> free dof index, -1 if held
-  std::vector<signed char> dofsign;    // -1 for a mirror atom's dof (it moves against its source)
+  std::vector<signed char> dofsign;    // -1 for a mirror atom's odd dof (it moves against its source)
+  std::vector<char> tied;              // 1 for a mirror atom's dof (its source's is the free one)
   std::vector<double> rhs, step;       // free-dof force and Newton step
   int factor;                          // min_modify factor: AUTO, CHOLMOD or LDLT
   int nshift;                          // diagonal shifts needed in the last factorisation
