@@ -132,7 +132,8 @@ def cmd_rings(args) -> int:
         for speed in (float(v) for v in args.speeds.split(",")):
             _progress(f"[esph] rings {scheme} {speed:g} m/s ...")
             case = rings.RingsCase(scheme=scheme, v=speed, dx=args.dx, tend=args.tend,
-                                   stress=args.stress, snap=args.snap)
+                                   stress=args.stress, grad=args.grad, volumes=args.volumes,
+                                   snap=args.snap)
             res = rings.run_rings(case, out, nprocs=args.np)
             fail = "-" if res.t_fail != res.t_fail else f"{res.t_fail * 1e3:.3f}"
             print(f"{scheme:>7} {speed:4g} {res.atoms:6d} {res.steps:7d} {res.wall:8.1f} "
@@ -203,8 +204,10 @@ def main(argv=None) -> int:
     val.add_argument("--full", action="store_true",
                      help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
                           "(about 70 min on one core); default: quick (about 1 min)")
-    val.add_argument("--tables", default="1234m",
-                     help="which tables: 1 2 3 4 (ICB), m (failure matrix, with --full)")
+    val.add_argument("--tables", default="12345m",
+                     help="which tables: 1 2 3 4 (ICB, the paper's), 5 (the defaults against "
+                          "the finite-element continuum, nu = 0 and 0.3, 3D), m (failure matrix, "
+                          "with --full)")
     val.add_argument("--dx", type=float, default=0.002,
                      help="particle spacing of Tables 1 and 3 in m (0.002)")
     val.add_argument("--loads", default=",".join(f"{x:g}" for x in theory.PAPER_BEAM_LOADS),
@@ -218,9 +221,12 @@ def main(argv=None) -> int:
                      help="minimiser of the min route: newton = min_style sph/newton (stress pk1 "
                           "only), cg = conjugate gradients (default: %(default)s)")
     val.add_argument("--hourglass", type=float, default=0.0)
-    val.add_argument("--variants", default="linear/fixed,quadratic/mirror",
-                     help="comma-separated gradient/clamp pairs: gradient linear (paper) or "
-                          "quadratic, clamp fixed (paper) or mirror (default: %(default)s)")
+    val.add_argument("--variants", default="linear/fixed,default",
+                     help="comma-separated schemes: linear/fixed (the paper's), default (quadratic "
+                          "gradient, mirror clamp, exact volumes, face traction), or a "
+                          "gradient/clamp pair with cell volumes and a column load: "
+                          "quadratic/mirror, quadratic/fixed, linear/mirror (default: "
+                          "%(default)s)")
     val.add_argument("--np", type=int, default=1, help="MPI ranks (1 = in-process)")
     val.add_argument("--json", help="write the rows to this JSON file")
     val.set_defaults(func=cmd_validate)
@@ -283,8 +289,13 @@ def main(argv=None) -> int:
     rng.add_argument("--speeds", default="5,8", help="comma-separated ring speeds in m/s")
     rng.add_argument("--dx", type=float, default=0.002, help="particle spacing in m (0.002)")
     rng.add_argument("--tend", type=float, default=0.004, help="simulated time in s (0.004)")
-    rng.add_argument("--stress", default="corotated", choices=["corotated", "pk1"],
-                     help="icb stress measure (corotated, the paper's)")
+    rng.add_argument("--stress", default="pk1", choices=["corotated", "pk1"],
+                     help="icb stress measure (default %(default)s; corotated is the paper's)")
+    rng.add_argument("--grad", default="quadratic", choices=["linear", "quadratic"],
+                     help="icb gradient correction (default %(default)s; linear is the paper's)")
+    rng.add_argument("--volumes", default="exact", choices=["exact", "cells"],
+                     help="particle volumes: exact = set_sph_volumes polar (default), cells = "
+                          "plain arc cells (the paper's)")
     rng.add_argument("--snap", type=float, default=0.0005,
                      help="seconds between snapshots for the PNGs (0 = none)")
     rng.add_argument("--np", type=int, default=1, help="MPI ranks (1 = in-process)")

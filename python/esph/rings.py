@@ -22,7 +22,9 @@ class RingsCase:
     v: float = 5.0                # speed of each ring, m/s
     dx: float = 0.002             # m
     tend: float = 0.004           # s
-    stress: str = "corotated"     # icb stress measure
+    stress: str = "pk1"           # icb stress measure (corotated: the paper's)
+    grad: str = "quadratic"       # icb gradient correction (linear: the paper's)
+    volumes: str = "exact"        # set_sph_volumes polar, or cells (the paper's)
     damping: float = 0.0          # contact damping ratio
     every: int = 50               # steps between time-series rows
     snap: float = 0.0             # s between particle snapshots (0 = none)
@@ -33,7 +35,8 @@ class RingsCase:
 
     def variables(self, outdir: Path) -> dict:
         return {"scheme": self.scheme, "v": self.v, "dx": self.dx, "tend": self.tend,
-                "stress": self.stress, "damping": self.damping, "every": self.every,
+                "stress": self.stress, "grad": self.grad, "volumes": self.volumes,
+                "damping": self.damping, "every": self.every,
                 "snap": self.snap, "outdir": str(outdir), "tag": self.tag}
 
 

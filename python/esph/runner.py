@@ -189,4 +189,5 @@ def run_tip(script: Path, variables: dict, nprocs: int = 1) -> TipResult:
 BEAM = EXAMPLES / "beam" / "in.beam"
 TRUSS = EXAMPLES / "truss" / "in.truss"
 BEAM_TLSPH = EXAMPLES / "beam" / "in.beam_tlsph"
+BEAM3D = EXAMPLES / "beam3d" / "in.beam3d"
 RINGS = EXAMPLES / "rings" / "in.rings"

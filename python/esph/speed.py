@@ -16,27 +16,31 @@ from . import theory
 from .paths import lmp_binary
 from .runner import BEAM, BEAM_TLSPH, TRUSS, run_mpi
 
+PAPER = {"grad": "linear", "clamp": "fixed", "volumes": "cells", "load": "column"}
+LAST = {"grad": "quadratic", "clamp": "mirror", "volumes": "cells", "load": "column"}
+DEFAULT = {"grad": "quadratic", "clamp": "mirror", "volumes": "exact", "load": "traction"}
 # (label, script for the beam, script for the truss or None, variables, truss model)
 METHODS = [
     ("ICB min CG, paper (linear/fixed, pk1)", BEAM, TRUSS,
-     {"route": "min", "solver": "cg", "stress": "pk1", "grad": "linear", "clamp": "fixed"},
+     {"route": "min", "solver": "cg", "stress": "pk1", **PAPER},
      "pk1"),
     ("ICB min CG, quadratic/mirror, pk1", BEAM, TRUSS,
-     {"route": "min", "solver": "cg", "stress": "pk1", "grad": "quadratic", "clamp": "mirror"},
+     {"route": "min", "solver": "cg", "stress": "pk1", **LAST},
      "pk1"),
     ("ICB dyn, paper (linear/fixed, corotated)", BEAM, TRUSS,
-     {"route": "dyn", "stress": "corotated", "grad": "linear", "clamp": "fixed"}, "corotated"),
+     {"route": "dyn", "stress": "corotated", **PAPER}, "corotated"),
     ("ICB dyn, quadratic/mirror, pk1", BEAM, TRUSS,
-     {"route": "dyn", "stress": "pk1", "grad": "quadratic", "clamp": "mirror", "hg": 0.05},
+     {"route": "dyn", "stress": "pk1", **LAST, "hg": 0.05},
      "pk1"),
     ("CCBWAT dyn", BEAM, TRUSS, {"scheme": "ccbwat", "route": "dyn"}, "hypo"),
     ("MACHDYN smd/tlsph dyn", BEAM_TLSPH, None, {"route": "dyn"}, None),
     ("ICB min Newton, paper (linear/fixed, pk1)", BEAM, TRUSS,
-     {"route": "min", "solver": "newton", "stress": "pk1", "grad": "linear", "clamp": "fixed"},
+     {"route": "min", "solver": "newton", "stress": "pk1", **PAPER},
      "pk1"),
     ("ICB min Newton, quadratic/mirror, pk1", BEAM, TRUSS,
-     {"route": "min", "solver": "newton", "stress": "pk1", "grad": "quadratic",
-      "clamp": "mirror"}, "pk1"),
+     {"route": "min", "solver": "newton", "stress": "pk1", **LAST}, "pk1"),
+    ("ICB min Newton, defaults (exact volumes, face traction)", BEAM, TRUSS,
+     {"route": "min", "solver": "newton", "stress": "pk1", **DEFAULT}, "pk1"),
 ]
 PROBLEMS = [("beam", -75.0), ("beam", -250.0), ("truss", 3000.0)]
 # a damped run has reached equilibrium when the force 2-norm is below this

@@ -22,7 +22,7 @@ set group all mass 1e-6
 set group all mol 1
 """
 
-ICB = "pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\n"
+ICB = "pair_style sph/icb 0.0012 stress pk1 gradient linear\npair_coeff * * 1e9 0.3\n"
 
 NEWTON_MIN = "\nfix hold all setforce 0 0 0\nminimize 0 1e-8 100 1000\n"
 
@@ -39,9 +39,10 @@ CASES = [
     ("pair_style sph/icb 0.0012\npair_coeff * * 0.0 0.3", "Young's modulus E must be > 0"),
     ("pair_style sph/icb 0.0012\npair_coeff * * stiff 0.3", "Expected floating point parameter"),
     ("fix i all sph/ccb/nve extra", "it takes no arguments"),
-    ("fix m all sph/mirror x 0.0 extra", "takes two arguments, the plane normal and position"),
+    ("fix m all sph/mirror x 0.0 extra", "Unknown fix sph/mirror keyword extra"),
     ("pair_style sph/icb 0.0012\npair_coeff * * 1e9", "expected I J E nu"),
-    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nrun 0", "requires fix sph/rotation"),
+    ("pair_style sph/icb 0.0012 stress corotated\npair_coeff * * 1e9 0.3\nrun 0",
+     "requires fix sph/rotation"),
     ("fix r all sph/rotation method magic", "Unknown fix sph/rotation method magic"),
     ("fix r all sph/rotation tol 0", "tol must be > 0"),
     ("fix r all sph/rotation bogus 1", "Unknown fix sph/rotation keyword: bogus"),
@@ -89,8 +90,9 @@ CASES = [
     ("reset_sph_reference nogroup", "Could not find reset_sph_reference group ID nogroup"),
     (ICB + "run 0\nreset_sph_reference all", "the reference partners were already built"),
     # min_style sph/newton
-    ("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\nfix r all sph/rotation\n"
-     "min_style sph/newton" + NEWTON_MIN, "needs an energy whose gradient is the force"),
+    ("pair_style sph/icb 0.0012 stress corotated\npair_coeff * * 1e9 0.3\n"
+     "fix r all sph/rotation\nmin_style sph/newton" + NEWTON_MIN,
+     "needs an energy whose gradient is the force"),
     ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + NEWTON_MIN,
      "requires pair_style sph/icb"),
     (ICB + "min_style sph/newton\nfix a all aveforce 0 0 0\nminimize 0 1e-8 100 1000",
@@ -220,7 +222,8 @@ def test_partner_beyond_ghost_cutoff_is_an_error(tmp_path):
 
 def test_gradient_cannot_change_after_partners_are_built():
     lmp = make_lammps()
-    lmp.commands_string(BASE + "pair_style sph/icb 0.0012 stress pk1\npair_coeff * * 1e9 0.3\nrun 0")
+    lmp.commands_string(BASE + "pair_style sph/icb 0.0012 stress pk1 gradient linear\n"
+                        "pair_coeff * * 1e9 0.3\nrun 0")
     lmp.commands_string("pair_style sph/icb 0.0012 stress pk1 gradient quadratic\n"
                         "pair_coeff * * 1e9 0.3")
     with pytest.raises(Exception, match="gradient quadratic: the reference partners were already"):

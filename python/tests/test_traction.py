@@ -128,15 +128,67 @@ def test_uniform_stress_is_an_exact_equilibrium_3d():
     lmp.close()
 
 
-def test_face_load_resultant_is_traction_times_area():
-    """With plain cell volumes the consistent forces of a face sum to t
-    times the face area.  (With corrected volumes the particle model's
-    face area differs from A by about 1e-4: the uniform stress, not the
-    resultant, is what the consistent load reproduces exactly.)"""
-    n = (12, 9)
+def test_traction_next_to_a_sliding_mirror_is_an_exact_equilibrium():
+    """A half model: slip mirror plane y = 0 (symmetry), tractions on both x
+    faces, uniaxial stretch with Poisson contraction.  The face loads of the
+    particles near the mirror include what fix sph/mirror hands over from the
+    mirror atoms, so the uniform state is still an exact equilibrium."""
+    nx, ny = 14, 6
+    lam, mu = lame(2, "stress")
+    E11 = (1.01 ** 2 - 1) / 2
+    E22 = -lam / (lam + 2 * mu) * E11
+    F = np.diag([1.01, np.sqrt(1 + 2 * E22), 1.0])
+    P = pk1(F, 2)
+    assert abs(P[1, 1]) < 1e-6 * P[0, 0]
     lmp = make_lammps()
-    block(lmp, n, 2, volumes=False)
-    lmp.command("fix load all sph/traction x 0.012 traction 1.5e6 -2.0e6")
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block 0 {nx} -3 {ny} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        region below block INF INF INF 0.0 INF INF units box
+        group below region below
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} plane stress
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+        fix sym below sph/mirror y 0.0 slip yes
+        run 0
+    """)
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    n = lmp.get_natoms()
+    for i in range(n):
+        x[i, :2] = F[:2, :2] @ x0[i, :2]
+    for side, coord in ((-1, 0.0), (1, nx * DX)):
+        t = side * P[:, 0]
+        lmp.command(f"fix f{side + 1} all sph/traction x {coord} traction {t[0]:.17g} {t[1]:.17g}")
+    lmp.command("run 0")
+    f = net_forces(lmp)
+    body = np.array(x0[:n, 1]) > 0
+    assert np.abs(f[body]).max() < 1e-10 * np.abs(P).max() * DX * T
+    # the mirror atoms keep no force of their own
+    assert np.abs(f[~body]).max() == 0.0
+    lmp.close()
+
+
+@pytest.mark.parametrize("volumes", [False, True])
+def test_face_load_resultant_is_traction_times_area(volumes):
+    """The consistent forces of a face sum to t times the face area, with
+    plain and with corrected volumes, when the faces are far enough apart
+    (14 spacings here) that their loads do not overlap."""
+    n = (16, 9)
+    lmp = make_lammps()
+    block(lmp, n, 2, volumes=volumes)
+    lmp.command("fix load all sph/traction x 0.016 traction 1.5e6 -2.0e6")
     lmp.command("run 0")
     area = n[1] * DX * T
     total = [lmp.extract_fix("load", 0, 1, k) for k in range(3)]

@@ -300,9 +300,18 @@ void FixSPHMirror::pair_up()
                id, group->names[igroup], "xyz"[axis], plane);
   const double tol = MATCH_TOL * dmin, cell = CELL_SIZE * dmin;
 
+  // atoms of every mirror group (this one's and other fixes') are no
+  // sources: a mirror of a mirror is not supported
+  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  const int other_mirrors = pair ? (pair->mirror_groups() & ~groupbit) : 0;
   std::vector<double> mirrors_mine, cands_mine;
   for (int i = 0; i < nlocal; i++) {
     const bool mirror = mask[i] & groupbit;
+    if (mirror && (mask[i] & other_mirrors))
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/mirror: atom {} belongs to the groups of two sph/mirror fixes; where "
+                 "two mirror planes meet, leave the corner empty", id, tag[i]);
+    if (!mirror && (mask[i] & other_mirrors)) continue;
     if (!mirror && std::fabs(x0[i][axis] - plane) > dmax + tol) continue;
     auto &dest = mirror ? mirrors_mine : cands_mine;
     dest.insert(dest.end(),
@@ -343,7 +352,8 @@ void FixSPHMirror::pair_up()
       error->all(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
                  "no source at ({}, {}, {}); the group must be the mirror image of the body's "
-                 "first layers across {} = {}",
+                 "first layers across {} = {} (atoms of another sph/mirror group cannot be "
+                 "sources)",
                  id, gtag, group->names[igroup], mirrors[g * NPACK + 1], mirrors[g * NPACK + 2],
                  mirrors[g * NPACK + 3], want[0], want[1], want[2], "xyz"[axis], plane);
     source[gtag] = found;
@@ -371,10 +381,10 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
   auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
   if (pair && pair->get_partners() && pair->get_partners()->built())
     error->one(FLERR, Error::NOLASTLINE,
-               "Fix {} sph/mirror: mirror atom {} has volume {} but its source {}; the reference "
-               "partners were built before this fix could copy the source's (define fix "
-               "sph/mirror before the first run, or set equal volumes)", id, mirror,
-               atom->vfrac[i], volume);
+               "Fix {} sph/mirror: mirror atom {} has volume {} and mass {} but its source {} "
+               "and {}; the reference partners were built before this fix could copy the "
+               "source's (define fix sph/mirror before the first run, or set equal volumes and "
+               "masses)", id, mirror, atom->vfrac[i], atom->rmass[i], volume, mass);
   atom->vfrac[i] = volume;
   atom->rmass[i] = mass;
 }

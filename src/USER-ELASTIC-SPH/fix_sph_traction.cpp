@@ -34,6 +34,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_sph_mirror.h"
 #include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
@@ -251,7 +252,7 @@ double FixSPHTraction::face_weight(int i) const
 
 /* ----------------------------------------------------------------------
    b_i = sum_j (V_i g_ij - V_j g_ji); mirror atoms of fix sph/mirror carry
-   no stress, so their g_ji terms drop out
+   no stress, so their terms drop out (for a mirror atom i its own too)
 ------------------------------------------------------------------------- */
 
 void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
@@ -261,22 +262,28 @@ void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
   const int *mask = atom->mask;
   const int mirrorbits = pair->mirror_groups();
   const double *pd = partners->pdata[i];
+  const double vi = (mask[i] & mirrorbits) ? 0.0 : vfrac[i];
   b[0] = b[1] = b[2] = 0.0;
   for (int k = 0; k < partners->npartner[i]; k++) {
     const int j = jl[k];
     const double vj = (mask[j] & mirrorbits) ? 0.0 : vfrac[j];
     const double *g = &pd[k * FixSPHPartners::NPDATA];
     for (int a = 0; a < 3; a++)
-      b[a] += vfrac[i] * g[FixSPHPartners::GIJ + a] - vj * g[FixSPHPartners::GJI + a];
+      b[a] += vi * g[FixSPHPartners::GIJ + a] - vj * g[FixSPHPartners::GJI + a];
   }
 }
 
 /* ----------------------------------------------------------------------
-   the load coefficients of the atoms this face or surface loads: the area
-   -w N . b_i of a face (first entry) or the vector b_i of a surface, kept
-   where not zero to round-off and shared by all ranks (a face is a small
-   part of the body), so they follow the atoms through migration.  Warns if
-   atoms outside the group would take a share.
+   the load coefficients c of the atoms this face or surface loads,
+   f_i[a] = t[a] c_i[a] on a face, p c_i[a] on a surface.  A body atom's own
+   share is -w N . b_i (face) or b_i (surface).  Fix sph/mirror hands the
+   force on a mirror atom to its source, times the sign of each component
+   (-1 clamped, +1 sliding), so a mirror atom's uniform-stress force P b_m
+   reaches its source as S P b_m and the source's coefficient takes
+   S (-w N . b_m) or S b_m as well.  Kept where not zero to round-off and
+   shared by all ranks (a face is a small part of the body), so they follow
+   the atoms through migration.  Warns if atoms outside the group would
+   take a share.
 ------------------------------------------------------------------------- */
 
 void FixSPHTraction::build_coefficients()
@@ -284,11 +291,15 @@ void FixSPHTraction::build_coefficients()
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
   const int mirrorbits = pair->mirror_groups();
-  std::vector<double> mine;
+  std::vector<FixSPHMirror *> mirrors;
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
+    mirrors.push_back(dynamic_cast<FixSPHMirror *>(fix));
+
+  std::vector<double> mine;    // (atom ID that takes the load, c[3]) records
   double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
   for (int i = 0; i < atom->nlocal; i++) {
-    if (mask[i] & mirrorbits) continue;
-    if (axis < 0 && !(mask[i] & groupbit)) continue;
+    const bool is_mirror = mask[i] & mirrorbits;
+    if (!(mask[i] & groupbit) && (axis < 0 || is_mirror)) continue;
     const double w = face_weight(i);
     if (w == 0.0) continue;
     const int *jl = pair->partner_indices(i);
@@ -296,14 +307,22 @@ void FixSPHTraction::build_coefficients()
       error->one(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/traction: the partner indices of atom {} are not current; the pair "
                  "forces must be computed before this fix", id, tag[i]);
-    double b[3];
+    double b[3], c[3];
     consistent_area(i, jl, b);
-    double c[3] = {b[0], b[1], b[2]};
-    if (axis >= 0) c[0] = -w * normal[axis] * b[axis], c[1] = c[2] = 0.0;
+    for (int a = 0; a < 3; a++) c[a] = (axis >= 0) ? -w * normal[axis] * b[axis] : b[a];
+    tagint target = tag[i];
+    if (is_mirror) {
+      const FixSPHMirror *owner = nullptr;
+      for (const auto *m : mirrors)
+        if (mask[i] & m->groupbit) owner = m;
+      if (!owner || !owner->mirror_sources().count(tag[i])) continue;
+      target = owner->mirror_sources().at(tag[i]);
+      for (int a = 0; a < 3; a++) c[a] *= owner->sign(a);
+    }
     const double size = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     share[(mask[i] & groupbit) ? 0 : 1] += size;
     share[2] = std::max(share[2], size);
-    if (mask[i] & groupbit) mine.insert(mine.end(), {(double) tag[i], c[0], c[1], c[2]});
+    if (mask[i] & groupbit) mine.insert(mine.end(), {(double) target, c[0], c[1], c[2]});
   }
   MPI_Allreduce(share, share_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&share[2], &share_all[2], 1, MPI_DOUBLE, MPI_MAX, world);
@@ -314,23 +333,26 @@ void FixSPHTraction::build_coefficients()
                    "near the face", id, group->names[igroup], "xyz"[axis], plane,
                    100.0 * share_all[1] / (share_all[0] + share_all[1]));
 
-  // drop the round-off of the interior
-  std::vector<double> kept;
-  for (size_t m = 0; m < mine.size(); m += 4) {
-    const double *c = &mine[m + 1];
-    if (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) > ROUNDOFF * share_all[2])
-      kept.insert(kept.end(), mine.begin() + m, mine.begin() + m + 4);
-  }
-  int nmine = (int) kept.size();
+  int nmine = (int) mine.size();
   std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
   MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
   for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
   std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(kept.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
+  MPI_Allgatherv(mine.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
                  MPI_DOUBLE, world);
+  // sum in rank order, the same on every rank, then drop the interior's round-off
   coefficient.clear();
-  for (size_t m = 0; m < all.size(); m += 4)
-    coefficient[(tagint) all[m]] = {all[m + 1], all[m + 2], all[m + 3]};
+  for (size_t m = 0; m < all.size(); m += 4) {
+    auto &c = coefficient[(tagint) all[m]];
+    for (int a = 0; a < 3; a++) c[a] += all[m + 1 + a];
+  }
+  for (auto it = coefficient.begin(); it != coefficient.end();) {
+    const auto &c = it->second;
+    if (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) > ROUNDOFF * share_all[2])
+      ++it;
+    else
+      it = coefficient.erase(it);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -369,7 +391,7 @@ void FixSPHTraction::post_force(int /*vflag*/)
     const int i = atom->map(id_atom);
     if (i < 0 || i >= atom->nlocal) continue;
     double fadd[3];
-    for (int a = 0; a < 3; a++) fadd[a] = (axis >= 0) ? t[a] * c[0] : value[0] * c[a];
+    for (int a = 0; a < 3; a++) fadd[a] = (axis >= 0) ? t[a] * c[a] : value[0] * c[a];
     double unwrap[3];
     domain->unmap(x[i], image[i], unwrap);
     for (int a = 0; a < 3; a++) {

@@ -59,8 +59,8 @@ class FixSPHTraction : public Fix {
   int nvalues;
   double support;              // kernel support 2h
   double half_thickness;       // atoms nearer to the face than this are its own
-  // load coefficient of each loaded atom by ID: the face area share (first
-  // entry) or a surface's vector b_i; the same on every rank
+  // load coefficients of each loaded atom by ID (f[a] = t[a] c[a] on a face,
+  // p c[a] on a surface); the same on every rank
   std::unordered_map<tagint, std::array<double, 3>> coefficient;
   class PairSPHICB *pair;
   double energy_force[4], energy_force_all[4];    // load potential, total applied force

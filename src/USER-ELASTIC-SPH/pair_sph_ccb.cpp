@@ -55,14 +55,24 @@ PairSPHCCB::PairSPHCCB(LAMMPS *lmp) :
     PairSPHElastic(lmp), dtau(nullptr), pwave(nullptr), bulk_eff(nullptr), sigma_rho2(nullptr),
     artstress(nullptr), list(nullptr)
 {
-  visc_alpha = visc_beta = 0.0;
-  art_eps = art_n = art_dp = 0.0;
-  w_dp = 0.0;
+  set_style_defaults();
   dev_trace = 1.0 / 3.0;
   kernel_measure = 1.0;
   nmax_work = 0;
   comm_mode = COMM_STATE;
   comm_forward = COMM_PER_ATOM;
+}
+
+/* ----------------------------------------------------------------------
+   no artificial viscosity or stress unless asked for (plain CCB)
+------------------------------------------------------------------------- */
+
+void PairSPHCCB::set_style_defaults()
+{
+  visc_alpha = visc_beta = 0.0;
+  art_eps = art_n = art_dp = 0.0;
+  w_dp = 0.0;
+  gradient_order = 1;
 }
 
 /* ---------------------------------------------------------------------- */

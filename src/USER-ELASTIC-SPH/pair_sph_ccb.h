@@ -65,6 +65,7 @@ class PairSPHCCB : public PairSPHElastic {
   class NeighList *list;
 
   int parse_keyword(int, int, char **) override;
+  void set_style_defaults() override;
   const char *style_name() const override { return "sph/ccb"; }
   void grow_work();
   void stress_terms(int i);

@@ -113,6 +113,13 @@ void PairSPHElastic::settings(int narg, char **arg)
   if (h <= 0.0)
     error->all(FLERR, Error::ARGZERO, "Pair style {} smoothing length h must be > 0, got {}", style_name(), h);
 
+  // a pair_style command given again starts from the documented defaults,
+  // not from the settings of the last one
+  plane = PLANE_STRAIN;
+  plane_given = 0;
+  thickness = 0.0;
+  set_style_defaults();
+
   SPHElastic::KernelType ktype = SPHElastic::SINC5;
   int iarg = 1;
   while (iarg < narg) {

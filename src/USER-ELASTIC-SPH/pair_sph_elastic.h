@@ -75,6 +75,8 @@ class PairSPHElastic : public Pair {
   virtual void allocate();
   // keywords of the derived style; return words consumed, 0 if unknown
   virtual int parse_keyword(int iarg, int narg, char **arg) = 0;
+  // the defaults of the derived style's keywords, before they are parsed
+  virtual void set_style_defaults() = 0;
   virtual const char *style_name() const = 0;
   void grow_output();
   void check_atoms();

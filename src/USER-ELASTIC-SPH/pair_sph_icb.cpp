@@ -59,8 +59,7 @@ PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     gcompact(nullptr)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
-  measure = COROTATED;
-  hourglass = 0.0;
+  set_style_defaults();
   mirror_groupbit = 0;
   comm_what = COMM_QSTRESS;
   nmax_work = maxlocal = 0;
@@ -77,6 +76,19 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(qstress);
   memory->destroy(jlocal);
   memory->destroy(gcompact);
+}
+
+/* ----------------------------------------------------------------------
+   the accurate scheme by default: the exact first Piola-Kirchhoff stress
+   (forces are the energy's gradient) and the gradient correction exact for
+   quadratic fields; the paper's is 'stress corotated gradient linear'
+------------------------------------------------------------------------- */
+
+void PairSPHICB::set_style_defaults()
+{
+  measure = PK1;
+  gradient_order = 2;
+  hourglass = 0.0;
 }
 
 /* ----------------------------------------------------------------------

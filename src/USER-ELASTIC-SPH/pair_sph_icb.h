@@ -67,6 +67,7 @@ class PairSPHICB : public PairSPHElastic {
   int jlocal_nlocal;
 
   int parse_keyword(int, int, char **) override;
+  void set_style_defaults() override;
   const char *style_name() const override { return "sph/icb"; }
   void refresh_partner_indices();
   template <int DIM> double stress_pass(int i, const int *jl, const double *gc);

@@ -331,7 +331,7 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
                "({}, {}); polar volumes are for rings whose innermost layer is a circle",
                centre[0], centre[1]);
   const long long nlayer = std::llround((r_hi - r_lo) / spacing) + 1;
-  if (nlayer > 100000000)
+  if (nlayer > 1000000)
     error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes polar: {} layers; wrong spacing?",
                nlayer);
 
