@@ -60,6 +60,22 @@ def block(lmp, n, dim, gradient="quadratic", volumes=True):
     """)
 
 
+def lattice_2d(lmp, box):
+    """A 2d si box 'xlo xhi ylo yhi' (lattice units) filled with particles
+    on the cell centres of a square lattice of spacing DX."""
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block {box} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+    """)
+
+
 def face_loads(lmp, P, n, dim):
     """One fix per face: traction P N on the face with outward normal N."""
     for a in range(dim):
@@ -141,16 +157,8 @@ def test_traction_next_to_a_sliding_mirror_is_an_exact_equilibrium():
     P = pk1(F, 2)
     assert abs(P[1, 1]) < 1e-6 * P[0, 0]
     lmp = make_lammps()
+    lattice_2d(lmp, f"0 {nx} -3 {ny}")
     lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block 0 {nx} -3 {ny} -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
         region below block INF INF INF 0.0 INF INF units box
         group below region below
         set group all mol 1
@@ -220,16 +228,8 @@ def truss_tip(solver, Fx, nu=0.0, nx=20, ny=6, ranks_note=""):
     """A bar clamped by a mirror at x = 0, pulled by a traction on x = L."""
     lmp = make_lammps()
     L, H = nx * DX, ny * DX
+    lattice_2d(lmp, f"-3 {nx} 0 {ny}")
     lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block -3 {nx} 0 {ny} -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
         set group all mol 1
         set group all volume {DX * DX * T}
         set group all mass {1000 * DX * DX * T}
@@ -286,16 +286,8 @@ def stretch_between_mirrors(delta, nu, slip, n=(16, 7), solver="newton"):
     nx, ny = n
     L = nx * DX
     lmp = make_lammps()
+    lattice_2d(lmp, f"-3 {nx + 3} 0 {ny}")
     lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block -3 {nx + 3} 0 {ny} -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
         region left block -3 0 INF INF INF INF
         region right block {nx} {nx + 3} INF INF INF INF
         region pin block 5 6 3 4 INF INF
@@ -357,16 +349,8 @@ def test_displacement_from_a_variable_ramps():
     lmp = make_lammps()
     nx, ny = 10, 5
     L = nx * DX
+    lattice_2d(lmp, f"-3 {nx + 3} 0 {ny}")
     lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block -3 {nx + 3} 0 {ny} -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
         region right block {nx} INF INF INF INF INF
         group right region right
         set group all mol 1

@@ -81,6 +81,25 @@ def lattice_body(dim, keep, nbox, volume_args="", group="all"):
     return lmp, np.array(cells)
 
 
+def filled_block(nx, ny, mol_setup="set group all mol 1"):
+    """A 2d block of nx x ny particles on the cell centres, volumes unset."""
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary f f p
+        atom_style sph/elastic
+        lattice sq {DX} origin 0.5 0.5 0.0
+        region box block 0 {nx} 0 {ny} -0.5 0.5
+        create_box 1 box
+        create_atoms 1 box
+        {mol_setup}
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+    """)
+    return lmp
+
+
 SHAPES_2D = {
     "rectangle": ((10, 4), lambda i, j: True),
     "L-shape": ((12, 10), lambda i, j: i < 5 or j < 4),
@@ -161,26 +180,9 @@ def test_density_keyword_sets_the_mass():
 def test_bodies_are_told_apart_by_molecule():
     """Two blocks side by side, one lattice spacing apart, are two bodies:
     each gets its own surface corrections at the faces that touch."""
-    lmp, cells = lattice_body(2, lambda i, j: True, (10, 4, 1))
-    lmp.close()
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary f f p
-        atom_style sph/elastic
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block 0 10 0 4 -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
-        region left block 0 5 INF INF INF INF
-        group left region left
-        set group all mol 2
-        set group left mol 1
-        set group all volume 1.0
-        set group all mass 1.0
-        set_sph_volumes all lattice {DX} thickness {T}
-    """)
+    lmp = filled_block(10, 4, mol_setup="region left block 0 5 INF INF INF INF\n"
+                       "group left region left\nset group all mol 2\nset group left mol 1")
+    lmp.command(f"set_sph_volumes all lattice {DX} thickness {T}")
     sums, X, V, m = particle_sums(lmp, 2)
     left = X[:, 0] < 5 * DX
     for side in (left, ~left):
@@ -192,21 +194,7 @@ def test_bodies_are_told_apart_by_molecule():
 
 def test_thin_rows_are_reported():
     """A part only 2 particles thick cannot be corrected: say so."""
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary f f p
-        atom_style sph/elastic
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block 0 10 0 2 -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
-        set group all mol 1
-        set group all volume 1.0
-        set group all mass 1.0
-    """)
-    from lammps import lammps  # noqa: F401  (for the log capture below)
+    lmp = filled_block(10, 2)
     lmp.command(f"set_sph_volumes all lattice {DX} thickness {T}")
     n = lmp.get_natoms()
     V = np.array(lmp.numpy.extract_atom("vfrac")[:n])
@@ -283,20 +271,7 @@ BAD = [
 
 @pytest.mark.parametrize("before, command, words", BAD)
 def test_bad_input_is_a_clear_error(before, command, words):
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary f f p
-        atom_style sph/elastic
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block 0 6 0 4 -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
-        set group all mol 1
-        set group all volume {DX * DX * T}
-        set group all mass 1.0
-    """)
+    lmp = filled_block(6, 4)
     for line in filter(None, before.split("\n")):
         lmp.command(line)
     with pytest.raises(Exception, match=words):

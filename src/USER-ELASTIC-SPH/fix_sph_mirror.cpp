@@ -34,12 +34,10 @@
 #include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
-#include "input.h"
 #include "memory.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "update.h"
-#include "variable.h"
 
 #include <array>
 #include <cmath>
@@ -114,11 +112,7 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
 void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
 {
   const int dim = domain->dimension;
-  for (int a = 0; a < 3; a++) {
-    mirror_sign[a] = -1.0;
-    disp[a] = 0.0;
-    dispindex[a] = -1;
-  }
+  for (double &sign : mirror_sign) sign = -1.0;
   bool slip = false;
   while (iarg < narg) {
     if (strcmp(arg[iarg], "slip") == 0) {
@@ -135,14 +129,8 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
         error->all(FLERR, iarg,
                    "Fix sph/mirror displace takes {} values (the plane's displacement, constants "
                    "or v_name of equal-style variables), got {}", dim, given);
-      for (int a = 0; a < given; a++) {
-        const char *word = arg[iarg + 1 + a];
-        if (utils::strmatch(word, "^v_"))
-          dispvar[a] = word + 2;
-        else
-          disp[a] = utils::numeric(FLERR, word, false, lmp);
-      }
-      if (dim == 2 && given == 3 && (!dispvar[2].empty() || disp[2] != 0.0))
+      for (int a = 0; a < given; a++) disp.set(a, arg[iarg + 1 + a], lmp);
+      if (dim == 2 && given == 3 && (disp.is_variable(2) || disp.value[2] != 0.0))
         error->all(FLERR, iarg + 3, "Fix sph/mirror: a 2d displacement has no z component");
       iarg += 1 + given;
     } else {
@@ -155,7 +143,7 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
     for (int a = 0; a < 3; a++)
       if (a != axis) {
         mirror_sign[a] = 1.0;
-        if (!dispvar[a].empty() || disp[a] != 0.0)
+        if (disp.is_variable(a) || disp.value[a] != 0.0)
           error->all(FLERR, Error::NOLASTLINE,
                      "Fix sph/mirror: with slip yes the body slides along the plane; only the "
                      "normal ({}) component of displace can be prescribed", "xyz"[axis]);
@@ -195,29 +183,7 @@ void FixSPHMirror::init()
   pair->add_mirror_group(groupbit);
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/mirror does not support run_style respa");
-  for (int a = 0; a < 3; a++) {
-    if (dispvar[a].empty()) continue;
-    dispindex[a] = input->variable->find(dispvar[a].c_str());
-    if (dispindex[a] < 0)
-      error->all(FLERR, Error::NOLASTLINE, "Variable {} for fix sph/mirror does not exist",
-                 dispvar[a]);
-    if (!input->variable->equalstyle(dispindex[a]))
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Variable {} for fix sph/mirror displace must be equal-style", dispvar[a]);
-  }
-}
-
-/* ----------------------------------------------------------------------
-   current prescribed displacement of the plane
-------------------------------------------------------------------------- */
-
-void FixSPHMirror::evaluate_displacement()
-{
-  if (dispindex[0] < 0 && dispindex[1] < 0 && dispindex[2] < 0) return;
-  modify->clearstep_compute();
-  for (int a = 0; a < 3; a++)
-    if (dispindex[a] >= 0) disp[a] = input->variable->compute_equal(dispindex[a]);
-  modify->addstep_compute(update->ntimestep + 1);
+  disp.resolve(lmp, fmt::format("fix {} sph/mirror displace", id));
 }
 
 /* ----------------------------------------------------------------------
@@ -228,7 +194,7 @@ void FixSPHMirror::evaluate_displacement()
 void FixSPHMirror::setup_pre_force(int /*vflag*/)
 {
   pair_up();
-  evaluate_displacement();
+  disp.evaluate(lmp);
   place_mirrors();
 }
 
@@ -244,13 +210,13 @@ void FixSPHMirror::min_setup(int vflag)
 
 void FixSPHMirror::pre_force(int /*vflag*/)
 {
-  evaluate_displacement();
+  disp.evaluate(lmp);
   place_mirrors();
 }
 
 void FixSPHMirror::min_pre_force(int /*vflag*/)
 {
-  evaluate_displacement();
+  disp.evaluate(lmp);
   place_mirrors();
 }
 
@@ -436,7 +402,7 @@ void FixSPHMirror::place_mirrors()
     domain->minimum_image(u);
     double shift[3];
     for (int a = 0; a < 3; a++)
-      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * disp[a] - u[a] : u[a]) - x[i][a];
+      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * disp.value[a] - u[a] : u[a]) - x[i][a];
     domain->minimum_image(shift);
     for (int a = 0; a < 3; a++) {
       x[i][a] += shift[a];

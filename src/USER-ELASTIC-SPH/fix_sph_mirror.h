@@ -21,6 +21,7 @@ FixStyle(sph/mirror,FixSPHMirror);
 #define LMP_FIX_SPH_MIRROR_H
 
 #include "fix.h"
+#include "sph_elastic_values.h"
 
 #include <map>
 #include <string>
@@ -67,9 +68,7 @@ class FixSPHMirror : public Fix {
   int axis;                        // normal of the mirror plane: 0, 1, 2 = x, y, z
   double plane;                    // its position (reference coordinates)
   double mirror_sign[3];           // -1 odd (clamped) component, +1 even (sliding)
-  double disp[3];                  // prescribed displacement u0 of the plane
-  std::string dispvar[3];          // equal-style variables for u0, empty for constants
-  int dispindex[3];
+  SPHElastic::EqualValues disp;    // prescribed displacement u0 of the plane
   std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
   double **fsource;                   // forces handed to sources, owned + ghost atoms
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
@@ -78,7 +77,6 @@ class FixSPHMirror : public Fix {
   int comm_what;                   // what forward comm carries
 
   void parse_keywords(int, int, char **);
-  void evaluate_displacement();
   void pair_up();
   void copy_volume(tagint, double, double);
   int local_source(int i);

@@ -22,6 +22,7 @@
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
+#include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 
@@ -120,6 +121,17 @@ void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
 void FixSPHPartners::setup_pre_force(int /*vflag*/)
 {
   if (first) build();
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool FixSPHPartners::any_built(Modify *modify)
+{
+  for (auto *fix : modify->get_fix_by_style("^SPH_PARTNERS$")) {
+    auto *partners = dynamic_cast<FixSPHPartners *>(fix);
+    if (partners && partners->built()) return true;
+  }
+  return false;
 }
 
 /* ----------------------------------------------------------------------

@@ -67,6 +67,9 @@ class FixSPHPartners : public Fix {
   void set_kernel(const SPHElastic::Kernel &k) { kernel = k; }
   void set_gradient_order(int, const char *);    // 1 linear, 2 quadratic
   bool built() const { return !first; }
+  // true if the partners of any sph pair style were built (from the
+  // reference positions and volumes, which may then no longer change)
+  static bool any_built(class Modify *);
   int find_partner(int i, int k);    // local index of partner k of owned atom i
 
   int maxpartner;     // most partners of any atom

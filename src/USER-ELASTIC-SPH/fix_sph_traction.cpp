@@ -38,11 +38,9 @@
 #include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
-#include "input.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "update.h"
-#include "variable.h"
 
 #include <cmath>
 #include <cstring>
@@ -112,17 +110,8 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
                "Fix sph/traction {} takes {} value{}, got {}: constants or v_name of equal-style "
                "variables", load == TRACTION ? "traction" : "pressure", nvalues,
                nvalues > 1 ? "s" : "", given);
-  for (int m = 0; m < 3; m++) {
-    value[m] = 0.0;
-    varindex[m] = -1;
-  }
-  for (int m = 0; m < given; m++) {
-    if (utils::strmatch(arg[iarg + m], "^v_"))
-      varname[m] = arg[iarg + m] + 2;
-    else
-      value[m] = utils::numeric(FLERR, arg[iarg + m], false, lmp);
-  }
-  if (load == TRACTION && dim == 2 && given == 3 && (!varname[2].empty() || value[2] != 0.0))
+  for (int m = 0; m < given; m++) values.set(m, arg[iarg + m], lmp);
+  if (load == TRACTION && dim == 2 && given == 3 && (values.is_variable(2) || values.value[2] != 0.0))
     error->all(FLERR, iarg + 2, "Fix sph/traction: a 2d traction has no z component");
 
   for (double &n : normal) n = 0.0;
@@ -155,17 +144,7 @@ void FixSPHTraction::init()
                "internal forces (with another pair style use fix addforce)");
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/traction does not support run_style respa");
-  for (int m = 0; m < 3; m++) {
-    if (varname[m].empty()) continue;
-    varindex[m] = input->variable->find(varname[m].c_str());
-    if (varindex[m] < 0)
-      error->all(FLERR, Error::NOLASTLINE, "Variable {} for fix sph/traction does not exist",
-                 varname[m]);
-    if (!input->variable->equalstyle(varindex[m]))
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Variable {} for fix sph/traction must be equal-style (a load that is the same "
-                 "over the face)", varname[m]);
-  }
+  values.resolve(lmp, fmt::format("fix {} sph/traction", id));
   support = pair->get_kernel().support();
 }
 
@@ -355,19 +334,6 @@ void FixSPHTraction::build_coefficients()
   }
 }
 
-/* ---------------------------------------------------------------------- */
-
-void FixSPHTraction::evaluate_values()
-{
-  bool any = false;
-  for (int m = 0; m < 3; m++) any = any || varindex[m] >= 0;
-  if (!any) return;
-  modify->clearstep_compute();
-  for (int m = 0; m < 3; m++)
-    if (varindex[m] >= 0) value[m] = input->variable->compute_equal(varindex[m]);
-  modify->addstep_compute(update->ntimestep + 1);
-}
-
 /* ----------------------------------------------------------------------
    f_i += t (-N . b_i) on a face, f_i += p b_i on a surface; the load's
    potential -f_i . (x_i - X_i) goes to the energy (fix_modify energy yes)
@@ -375,7 +341,8 @@ void FixSPHTraction::evaluate_values()
 
 void FixSPHTraction::post_force(int /*vflag*/)
 {
-  evaluate_values();
+  values.evaluate(lmp);
+  const double *value = values.value;
   double t[3] = {value[0], value[1], value[2]};
   if (load == PRESSURE && axis >= 0)
     for (int a = 0; a < 3; a++) t[a] = -value[0] * normal[a];

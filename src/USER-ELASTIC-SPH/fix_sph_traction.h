@@ -21,6 +21,7 @@ FixStyle(sph/traction,FixSPHTraction);
 #define LMP_FIX_SPH_TRACTION_H
 
 #include "fix.h"
+#include "sph_elastic_values.h"
 
 #include <array>
 #include <string>
@@ -53,9 +54,7 @@ class FixSPHTraction : public Fix {
   int axis;                    // normal of the face plane, -1 for a whole surface
   double plane;                // face position (reference coordinates)
   double normal[3];            // outward unit normal of the face
-  double value[3];             // traction vector, or the pressure in value[0]
-  std::string varname[3];      // equal-style variables, empty for constants
-  int varindex[3];
+  SPHElastic::EqualValues values;    // traction vector, or the pressure in value[0]
   int nvalues;
   double support;              // kernel support 2h
   double half_thickness;       // atoms nearer to the face than this are its own
@@ -68,7 +67,6 @@ class FixSPHTraction : public Fix {
 
   void find_side();
   double face_weight(int) const;
-  void evaluate_values();
   void consistent_area(int i, const int *jl, double *b) const;
   void build_coefficients();
 };

@@ -40,13 +40,10 @@ void ResetSPHReference::command(int narg, char **arg)
   if (igroup < 0) error->all(FLERR, "Could not find reset_sph_reference group ID {}", arg[0]);
 
   // the partners and their corrected gradients are built once, from x0
-  for (auto *fix : modify->get_fix_by_style("^SPH_PARTNERS$")) {
-    auto *partners = dynamic_cast<FixSPHPartners *>(fix);
-    if (partners && partners->built())
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Reset_sph_reference: the reference partners were already built from the old "
-                 "reference positions; reset the reference before the first run or minimize");
-  }
+  if (FixSPHPartners::any_built(modify))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Reset_sph_reference: the reference partners were already built from the old "
+               "reference positions; reset the reference before the first run or minimize");
 
   const int groupbit = group->bitmask[igroup];
   double **x = atom->x;

@@ -106,13 +106,10 @@ void SetSPHVolumes::command(int narg, char **arg)
   groupbit = group->bitmask[igroup];
   dim = domain->dimension;
 
-  for (auto *fix : modify->get_fix_by_style("^SPH_PARTNERS$")) {
-    auto *partners = dynamic_cast<FixSPHPartners *>(fix);
-    if (partners && partners->built())
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Set_sph_volumes: the reference partners were already built with the old "
-                 "volumes; set the volumes before the first run or minimize");
-  }
+  if (FixSPHPartners::any_built(modify))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes: the reference partners were already built with the old "
+               "volumes; set the volumes before the first run or minimize");
 
   const bool polar = strcmp(arg[1], "polar") == 0;
   if (!polar && strcmp(arg[1], "lattice") != 0)
