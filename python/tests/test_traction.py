@@ -408,3 +408,17 @@ def test_bad_input_is_a_clear_error(command, words):
         for line in command.split("\n"):
             lmp.command(line)
     lmp.close()
+
+
+def test_3d_face_traction_statics_agree_on_1_2_4_ranks():
+    """examples/beam3d (exact volumes, mirror clamp, face traction, Newton)
+    on a small cantilever: the same tip on 1, 2 and 4 ranks."""
+    from esph.runner import BEAM3D, run_mpi
+    variables = {"L": 0.04, "H": 0.01, "W": 0.01, "dx": 0.0025, "Fy": -2000.0, "nu": 0.3}
+    tips = [run_mpi(BEAM3D, variables, n).variables for n in (1, 2, 4)]
+    assert tips[0]["load_x"] == pytest.approx(0.04)
+    assert tips[0]["tip_dv"] < -1e-5
+    for other in tips[1:]:
+        for key in ("tip_dh", "tip_dv"):
+            assert other[key] == pytest.approx(tips[0][key], rel=1e-9)
+        assert abs(other["tip_dz"]) < 1e-12
