@@ -196,8 +196,9 @@ def statics(dx: float, nprocs_list, routes, progress=print) -> list[StaticsRow]:
     progress(f"[esph] converged reference: Newton, ftol 1e-10, dx = {dx * 1e3:g} mm ...")
     ref = run_mpi(BEAM, {**STATICS_MODEL, **STATICS_ROUTES["newton"], "dx": dx, "ftol": 1e-10},
                   1).variables["tip_dv"]
-    print(f"Static beam, Fy = {STATICS_MODEL['Fy']:g} N, quadratic gradient, mirror clamp, pk1, "
-          f"dx = {dx * 1e3:g} mm; converged dv = {ref * 1e3:.6f} mm; machine: {machine()}")
+    print(f"Static beam, Fy = {STATICS_MODEL['Fy']:g} N, the defaults (pk1, quadratic gradient, "
+          f"mirror clamp, exact volumes, face traction), dx = {dx * 1e3:g} mm; converged dv = "
+          f"{ref * 1e3:.6f} mm; machine: {machine()}")
     print(f"{'route':<13} {'ranks':>5} {'atoms':>6} {'iter':>7} {'wall[s]':>8} {'loop[s]':>8} "
           f"{'dv[mm]':>11} {'vs conv':>9} {'vs exact':>9}")
     rows = []

@@ -54,5 +54,10 @@ def test_statics_rows_against_the_converged_answer():
     assert abs(rows["newton"].deviation) < 1e-8
     assert abs(rows["cg"].deviation) < 1e-6
     assert abs(rows["newton-loose"].deviation) < 1e-3
-    # quadratic gradient and mirror clamp at 5 mm: +5 % (README, Table 2)
-    assert 0.03 < rows["newton"].error < 0.07
+    # the defaults at 5 mm (4 particles deep) against the mesh-converged FE
+    # continuum at the same material points: +0.27 % measured; the issue's
+    # bound for a body 4 particles deep is 0.5 %.  (Against the elastica it
+    # is +0.96 %: the 2D continuum is 0.6 % softer, by shear.)
+    from esph import fe
+    continuum = fe.tip("beam", -250.0, 0.005)["dv"]
+    assert 0.0 < rows["newton"].dv / continuum - 1 < 0.005
