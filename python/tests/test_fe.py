@@ -1,0 +1,299 @@
+"""The finite-element continuum reference (esph.fe): its table and cross-checks.
+
+(a) the truss at nu = 0 is homogeneous: the table and a fresh FE solve
+    against the exact 1-D SVK bar, P = E lam (lam^2 - 1)/2;
+(b) the beam at -10 N, nu = 0 against Reissner's shear beam
+    (theory.shear_beam_tip), and the linear limit against the independent
+    linear Q9 code studies/beam_error/fe_continuum.py;
+(c) patch tests: a homogeneous SVK stretch on distorted meshes (2D, 3D);
+(d) a coarse recomputation of a stored beam entry, and 3D consistency
+    (half-z model = full model, 3D nu = 0 = 2D plane stress).
+"""
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+skfem = pytest.importorskip("skfem")
+
+from esph import fe, theory  # noqa: E402
+
+STUDIES = Path(__file__).resolve().parents[2] / "studies" / "beam_error"
+
+
+def exact_truss_stretch(load: float, truss: fe.Problem) -> float:
+    """lam^3 - lam - 2 F/(A E) = 0, the root continuous from lam = 1 (Newton)."""
+    s = load / (truss.H * truss.t * truss.E)
+    lam = 1.0 + s
+    for _ in range(50):
+        step = (lam ** 3 - lam - 2.0 * s) / (3.0 * lam ** 2 - 1.0)
+        lam -= step
+        if abs(step) < 1e-16:
+            break
+    return lam
+
+
+# -- the table ----------------------------------------------------------------
+
+def test_table_covers_every_case():
+    for name, pr in fe.PROBLEMS.items():
+        for nu, plane in pr.cases:
+            for load in pr.loads:
+                for dx in pr.dxs:
+                    r = fe.tip(name, load, dx, nu=nu, plane=plane)
+                    assert set(r) >= {"dh", "dv", "error_estimate"}
+                    assert (pr.dim == 3) == ("dz" in r)
+                    assert r["error_estimate"] >= 0.0
+
+
+def test_tip_missing_case_names_it_and_the_command():
+    with pytest.raises(KeyError) as err:
+        fe.tip("beam", -11.0, 0.002, nu=0.3, plane="stress")
+    msg = str(err.value)
+    assert "load=-11" in msg and "dx=0.002" in msg and "nu=0.3" in msg
+    assert "python -m esph.fe --write" in msg
+    with pytest.raises(KeyError, match="no problem"):
+        fe.tip("plate", -10.0, 0.002)
+
+
+def test_table_meets_the_convergence_targets():
+    """2D entries converged to 2e-6 (relative Richardson estimate), except the
+    compressed nu = 0.3 plane-strain truss at -5000/-7000 N, where SVK's
+    compressive softening at the clamped corners limits the mesh (table
+    meta note): those to 2e-5.  3D: the stated estimates are consistent with
+    the meta (targets 2e-5; see the meta note on nu = 0.3)."""
+    table = fe._load_table()
+    for name in ("beam", "truss"):
+        for e in table["problems"][name]["entries"]:
+            exempt = (name == "truss" and e["nu"] == 0.3 and e["plane"] == "strain"
+                      and e["load"] <= -5000.0)
+            assert e["error_estimate"] < (2e-5 if exempt else 2e-6), e
+    for name in ("beam3d", "beam3d_short"):
+        part = table["problems"][name]
+        worst = max(e["error_estimate"] for e in part["entries"])
+        assert worst == pytest.approx(part["meta"]["max_error_estimate"])
+        assert worst < 2e-4
+
+
+def test_symmetric_components_vanish():
+    for dx in fe.PROBLEMS["truss"].dxs:
+        for load in (7000.0, -7000.0):
+            r = fe.tip("truss", load, dx, nu=0.3)
+            assert abs(r["dv"]) < 1e-12 * abs(r["dh"])
+    for name in ("beam3d", "beam3d_short"):
+        pr = fe.PROBLEMS[name]
+        r = fe.tip(name, pr.loads[-1], pr.dxs[0], nu=0.3)
+        assert abs(r["dz"]) < 1e-12 * abs(r["dv"])
+
+
+# -- (a) truss at nu = 0: exact ------------------------------------------------
+
+def test_truss_nu0_table_is_the_exact_1d_svk_bar():
+    truss = fe.PROBLEMS["truss"]
+    model = theory.Truss()
+    for load in truss.loads:
+        lam = exact_truss_stretch(load, truss)
+        assert lam == pytest.approx(model.stretch(load, "pk1"), rel=1e-12)
+        for dx in truss.dxs:
+            for plane in ("stress", "strain"):
+                r = fe.tip("truss", load, dx, nu=0.0, plane=plane)
+                exact = (lam - 1.0) * (truss.L - 0.5 * dx)
+                assert r["dh"] == pytest.approx(exact, rel=1e-8, abs=0.0)
+                assert abs(r["dv"]) < 1e-12 * abs(exact)
+
+
+def test_truss_nu0_fresh_solve_is_exact():
+    truss = fe.PROBLEMS["truss"]
+    mesh = fe.make_mesh(truss, 0)
+    res = fe.solve_case(truss, [7000.0, -7000.0], 0.0, "stress", mesh, dxs=[0.002, 0.01])
+    for load in (7000.0, -7000.0):
+        lam = exact_truss_stretch(load, truss)
+        for j, dx in enumerate((0.002, 0.01)):
+            exact = (lam - 1.0) * (truss.L - 0.5 * dx)
+            assert res[load][j][0] == pytest.approx(exact, rel=1e-10, abs=0.0)
+
+
+# -- (b) beam against beam theory and a second FE code --------------------------
+
+def _face_mean(mesh_level: int, load: float, nu: float):
+    beam = fe.PROBLEMS["beam"]
+    mesh = fe.make_mesh(beam, mesh_level)
+    res = fe.solve_case(beam, [load], nu, "stress", mesh, dxs=[0.002],
+                        x_columns={"face": (beam.L, beam.H / 400)})
+    return res["face"][load], res[load][0]
+
+
+def test_beam_small_load_against_reissner_shear_beam():
+    """Mean displacement of the loaded face x = L at -10 N, nu = 0, against
+    Reissner's geometrically exact shear beam (Cowper's kappa = 5/6).
+
+    Converged (level 3), the two agree to 1.1e-5 in dv (face mean -2.011815
+    mm, beam -2.011794 mm) and 8e-5 in dh: the beam misses only the clamp's
+    warping restraint and the end load's Saint-Venant zone, O((H/L)^3) =
+    1e-3 times a small coefficient.  The level-1 mesh used here is itself
+    within ~1.5e-5 (Richardson), so 1e-4 (dv) and 1e-3 (dh, a second-order
+    quantity 6e-3 of dv) are strict bounds.  (At nu = 0.3 the continuum is
+    0.16 % stiffer than this beam with Cowper's coefficient: the clamp
+    restrains the Poisson contraction; not asserted.)"""
+    face, _ = _face_mean(1, -10.0, 0.0)
+    dh, dv = theory.shear_beam_tip(theory.Beam(), -10.0, nu=0.0)
+    assert face[1] == pytest.approx(dv, rel=1e-4)
+    assert face[0] == pytest.approx(dh, rel=1e-3)
+    # and against the elastica (no shear): the continuum is 0.60 % softer,
+    # the shear compliance 3 E I/(kappa G A L^2) = 0.6 (H/L)^2
+    _, dv_el = theory.beam_tip(theory.Beam(), -10.0)
+    assert face[1] / dv_el - 1.0 == pytest.approx(0.006, abs=2e-4)
+
+
+def test_beam_linear_limit_against_linear_q9_code():
+    """Linear limit (load 1e-6 of -10 N, scaled) of the mean uy over the line
+    x = L - 1 mm, against studies/beam_error/fe_continuum.py (an independent
+    linear Q9 code on a uniform 400 x 8 mesh, exact line mean; its 800 x 16
+    mesh moves it by 2.5e-7).  Level 2 here is within ~1e-6 of converged
+    (level 3 agrees with fe_continuum to 2.3e-7), so 5e-6 is strict."""
+    if not (STUDIES / "fe_continuum.py").exists():
+        pytest.skip("studies/beam_error/fe_continuum.py not in this checkout")
+    sys.path.insert(0, str(STUDIES))
+    try:
+        import fe_continuum
+    finally:
+        sys.path.remove(str(STUDIES))
+    beam = fe.PROBLEMS["beam"]
+    s = beam.L - 0.001
+    other = fe_continuum.solve_fe(400, 8, F=-10.0, s_list=[s])[0]
+    mesh = fe.make_mesh(beam, 2)
+    scale = 1e-6
+    res = fe.solve_case(beam, [-10.0 * scale], 0.0, "stress", mesh, dxs=[0.002],
+                        x_columns={"line": (s, beam.H / 400)})
+    mine = res["line"][-10.0 * scale][1] / scale
+    assert mine == pytest.approx(other, rel=5e-6)
+
+
+# -- (c) patch tests --------------------------------------------------------------
+
+def _distorted(mesh, amount, rng):
+    """Move the interior vertices of a tensor mesh by up to `amount` of the
+    smallest spacing (bilinear/trilinear elements stay valid)."""
+    p = mesh.p.copy()
+    lo, hi = p.min(axis=1, keepdims=True), p.max(axis=1, keepdims=True)
+    interior = np.all((p > lo + 1e-12) & (p < hi - 1e-12), axis=0)
+    h = min(np.diff(np.unique(p[i])).min() for i in range(p.shape[0]))
+    p[:, interior] += amount * h * rng.uniform(-1, 1, size=(p.shape[0], interior.sum()))
+    return type(mesh)(p, mesh.t)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_uniform_stretch_patch_test(dim):
+    """A homogeneous SVK stretch F0 = diag(l1, l2(, l3)) with traction-free
+    lateral faces: rollers on x = 0, y = 0 (z = 0), the dead traction P11 on
+    x = L.  Any mesh (here a distorted one) reproduces u = (F0 - I) X."""
+    rng = np.random.default_rng(1)
+    E, nu = 2.0e9, 0.3
+    plane = "stress" if dim == 2 else "3d"
+    lam, mu = fe.lame(E, nu, plane)
+    if dim == 2:
+        mesh = skfem.MeshQuad.init_tensor(np.linspace(0, 0.2, 5), np.linspace(0, 0.05, 4))
+    else:
+        mesh = skfem.MeshHex.init_tensor(np.linspace(0, 0.2, 4), np.linspace(0, 0.05, 3),
+                                         np.linspace(0, 0.04, 3))
+    mesh = _distorted(mesh, 0.2, rng)
+    l1 = 1.06
+    e11 = 0.5 * (l1 ** 2 - 1.0)
+    # lateral S = 0: lambda (e11 + (dim - 1) e) + 2 mu e = 0
+    e = -lam * e11 / (lam * (dim - 1) + 2.0 * mu)
+    lt = math.sqrt(1.0 + 2.0 * e)
+    p11 = l1 * (lam * (e11 + (dim - 1) * e) + 2.0 * mu * e11)
+    area = 0.05 * (1e-3 if dim == 2 else 0.04)
+    rollers = [(lambda x, i=i: np.isclose(x[i], 0.0), [i]) for i in range(dim)]
+    solver = fe.SVKSolver(mesh, lam, mu, thickness=1e-3 if dim == 2 else 1.0,
+                          dirichlet=rollers)
+    force = np.zeros(dim)
+    force[0] = p11 * area
+    f = solver.face_load(0.2, force)
+    u, _, rel = solver.newton(np.zeros(solver.N), f)
+    X = solver.basis.doflocs
+    expect = np.vstack([(l1 - 1.0) * X[0]] + [(lt - 1.0) * X[i] for i in range(1, dim)])
+    got = u.reshape(-1, dim).T
+    assert np.abs(got - expect).max() < 1e-10 * np.abs(expect).max()
+    # and the tip column of any dx reads it
+    m = solver.column_probe(np.array([[0.15, 0.15], [0.01, 0.03]] +
+                                     ([[0.01, 0.02]] if dim == 3 else [])))
+    assert m @ u[0::dim] == pytest.approx((l1 - 1.0) * 0.15, rel=1e-10)
+
+
+def test_prescribed_homogeneous_deformation_with_shear():
+    """All boundary DOFs prescribed by a general F0 (stretch + shear): the
+    interior of a distorted mesh follows exactly."""
+    rng = np.random.default_rng(2)
+    mesh = _distorted(skfem.MeshQuad.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)),
+                      0.25, rng)
+    lam, mu = fe.lame(1.0, 0.3, "strain")
+    F0 = np.array([[1.1, 0.2], [-0.05, 0.95]])
+    def boundary(x):
+        return (np.isclose(x[0], 0.0) | np.isclose(x[0], 1.0)
+                | np.isclose(x[1], 0.0) | np.isclose(x[1], 1.0))
+
+    solver = fe.SVKSolver(mesh, lam, mu, dirichlet=[(boundary, [0, 1])])
+    X = solver.basis.doflocs
+    exact = ((F0 - np.eye(2)) @ X).T.ravel()
+    u0 = np.where(solver.fixed, exact, 0.0)
+    u, _, _ = solver.newton(u0, np.zeros(solver.N))
+    assert np.abs(u - exact).max() < 1e-10
+
+
+# -- (d) recomputation and 3D consistency -------------------------------------------
+
+def test_coarse_recomputation_reproduces_a_stored_beam_entry():
+    """beam, nu = 0.3, plane stress, -75 N, dx = 2 mm on the family's two
+    coarsest levels: the first reproduces the table's own value for it, and
+    the second is within the stored error estimate plus its own error
+    (bounded by |second - first|, i.e. a convergence order >= 1)."""
+    beam = fe.PROBLEMS["beam"]
+    load, dx, nu = -75.0, 0.002, 0.3
+    stored = next(e for e in fe._load_table()["problems"]["beam"]["entries"]
+                  if e["load"] == load and e["dx"] == dx and e["nu"] == nu
+                  and e["plane"] == "stress")
+    values = []
+    for level in beam.levels[:2]:
+        res = fe.solve_case(beam, [load], nu, "stress", fe.make_mesh(beam, level), dxs=[dx])
+        values.append(res[load][0])
+    c0, c1 = values
+    assert c0 == pytest.approx(stored["levels"][0], rel=1e-8)
+    for i, c in enumerate(("dh", "dv")):
+        own = abs(c1[i] - c0[i])
+        assert abs(c1[i] - stored[c]) <= stored["err_" + c] + own
+
+
+def test_half_z_model_equals_full_model():
+    pr = fe.PROBLEMS["beam3d"]
+    full = fe.solve_case(pr, [-200.0], 0.3, "3d", fe.make_mesh(pr, 0, half_z=False),
+                         dxs=[0.004, 0.005])
+    half = fe.solve_case(pr, [-200.0], 0.3, "3d", fe.make_mesh(pr, 0, half_z=True),
+                         dxs=[0.004, 0.005])
+    assert full["info"]["half_z"] is False and half["info"]["half_z"] is True
+    np.testing.assert_allclose(half[-200.0][:, :2], full[-200.0][:, :2], rtol=1e-9)
+    assert np.abs(full[-200.0][:, 2]).max() < 1e-9 * np.abs(full[-200.0][:, 1]).max()
+
+
+def test_3d_nu0_equals_2d_plane_stress():
+    """With nu = 0 (lambda = 0) the 3D beam is exactly the 2D one of thickness
+    W (u independent of z, u_z = 0), and beam3d_short is beam3d scaled by
+    1/2 (loads by 1/4): the 3D table must agree with the (much finer) 2D
+    table within the two stated errors."""
+    b2, b3 = fe.PROBLEMS["beam"], fe.PROBLEMS["beam3d"]
+    ratio = b3.W / b2.t
+    for load3, short_load in ((-200.0, -50.0), (-1500.0, None), (-5000.0, -1250.0)):
+        for dx in b3.dxs:
+            r2 = fe.tip("beam", load3 / ratio, dx, nu=0.0)
+            r3 = fe.tip("beam3d", load3, dx, nu=0.0)
+            for c in ("dh", "dv"):
+                assert abs(r3[c] - r2[c]) <= r3["err_" + c] + r2["err_" + c], (load3, dx, c)
+            if short_load is not None and any(
+                    math.isclose(dx / 2, d) for d in fe.PROBLEMS["beam3d_short"].dxs):
+                rs = fe.tip("beam3d_short", short_load, dx / 2, nu=0.0)
+                for c in ("dh", "dv"):
+                    assert abs(2 * rs[c] - r2[c]) <= 2 * rs["err_" + c] + r2["err_" + c]
