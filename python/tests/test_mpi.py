@@ -65,6 +65,55 @@ def test_periodic_runs_agree_on_1_2_4_ranks(tmp_path, dim, scheme):
             assert other[key] == pytest.approx(runs[0][key], rel=1e-10), key
 
 
+MIGRATING_3D = """
+units si
+dimension 3
+boundary f f f
+atom_style sph/elastic
+atom_modify map array
+lattice sc 0.001 origin 0.5 0.5 0.5
+region box block 0 30 0 6 0 6
+region body block 0 6 0 6 0 6
+create_box 1 box
+create_atoms 1 region body
+set group all mol 1
+set_sph_volumes all lattice 0.001 density 1000
+pair_style sph/icb $(v_hfac*0.001)
+pair_coeff * * 1e9 0.3
+comm_modify cutoff $(4.5*v_hfac*0.001)
+neighbor 0.0005 bin
+velocity all set 20.0 0 0 units box
+velocity all ramp vy -1 1 x 0 0.006 sum yes units box
+fix nve all nve
+timestep 2e-7
+run 4000
+variable x1 equal x[1]
+variable y1 equal y[1]
+print "RESULT xc $(xcm(all,x):%.17g)"
+print "RESULT x1 $(v_x1:%.17g)"
+print "RESULT y1 $(v_y1:%.17g)"
+print "RESULT pe $(pe:%.17g)"
+print "RESULT ke $(ke:%.17g)"
+"""
+
+
+@pytest.mark.parametrize("hfac", [1.5, 2.0])
+def test_migrating_3d_body_with_long_partner_lists(tmp_path, hfac):
+    """A 3d block crosses the rank boundaries (x from 0.003 to 0.019 m in a
+    0.03 m box) with h = 1.5 and 2 dx: up to 250 partners per atom, whose
+    records migrate with it.  The exchange buffer must be sized for them
+    (it was not: SIGABRT at h = 2 dx on 2 ranks); 2 and 4 ranks must give
+    what 1 rank gives."""
+    path = tmp_path / "in.migrate"
+    path.write_text(MIGRATING_3D)
+    runs = [run_mpi(path, {"hfac": hfac}, n).variables for n in (1, 2, 4)]
+    assert runs[0]["xc"] == pytest.approx(0.019, rel=1e-6)     # it did cross the box
+    assert runs[0]["pe"] > 0.0                                  # and was deformed
+    for other in runs[1:]:
+        for key in ("x1", "y1", "pe", "ke"):
+            assert other[key] == pytest.approx(runs[0][key], rel=1e-10), key
+
+
 # What Open MPI 4.1's mpirun printed when it lost the end of a finished run in
 # CI, after LAMMPS's last line
 RACE_TAIL = """Total wall time: 0:00:00

@@ -55,6 +55,10 @@ FixSPHPartners::FixSPHPartners(LAMMPS *lmp, int narg, char **arg) :
   first = 1;
   maxpartner = 1;
   nmax_lcorr = 0;
+  // a migrating atom carries its whole partner list: the exchange buffer
+  // must hold the longest, known only after the partners are built
+  maxexchange_dynamic = 1;
+  set_maxexchange();
   comm_forward = NCORR;
   order = 1;
 
@@ -181,6 +185,7 @@ void FixSPHPartners::collect_partners()
 
   MPI_Allreduce(&mymax, &maxpartner, 1, MPI_INT, MPI_MAX, world);
   maxpartner = std::max(maxpartner, 1);
+  set_maxexchange();
   memory->destroy(partner);
   memory->destroy(pdata);
   memory->create(partner, atom->nmax, maxpartner, "sph/partners:partner");
@@ -367,6 +372,16 @@ void FixSPHPartners::set_arrays(int i)
   npartner[i] = 0;
 }
 
+/* ----------------------------------------------------------------------
+   doubles one atom packs for migration (pack_exchange): its partner count,
+   then an ID and NPDATA doubles per partner
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::set_maxexchange()
+{
+  maxexchange = 1 + (1 + NPDATA) * maxpartner;
+}
+
 /* ---------------------------------------------------------------------- */
 
 int FixSPHPartners::pack_exchange(int i, double *buf)
@@ -413,6 +428,7 @@ void FixSPHPartners::restart(char *buf)
   first = static_cast<int>(list[0]);
   maxpartner = static_cast<int>(list[1]);
   order = static_cast<int>(list[2]);
+  set_maxexchange();
   memory->destroy(partner);
   memory->destroy(pdata);
   grow_arrays(atom->nmax);

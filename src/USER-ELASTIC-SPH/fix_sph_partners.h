@@ -86,6 +86,7 @@ class FixSPHPartners : public Fix {
   int nmax_lcorr;
 
   void build();
+  void set_maxexchange();
   void collect_partners();
   void compute_corrections();
 };
