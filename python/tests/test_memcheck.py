@@ -1,6 +1,7 @@
 """Every style under valgrind memcheck: short runs that touch each code path
 (2d/3d, both stress measures, quadratic gradient, hourglass, CCB/CCBWAT and
-its integrator, contact with damping, mirror clamp, minimize, restart, the
+its integrator, contact with damping, mirror clamp, set_sph_volumes, fix
+sph/traction, sliding and displaced mirrors, minimize, restart, the
 diagnostics compute, 2 MPI ranks with atoms migrating) must report no
 invalid read or write and no use of uninitialised memory.  About a minute."""
 from __future__ import annotations
@@ -86,6 +87,28 @@ min_style cg
 minimize 0.0 1e-10 30 300
 """,
 }
+# boundary conditions: exact volumes, a sliding mirror plane with a prescribed
+# displacement from a variable, a held coordinate, a face traction from a
+# variable and a surface pressure, solved by Newton (its probe sees them all)
+INPUTS["icb_boundary_newton"] = B2.replace("boundary p s p", "boundary s s p") + """
+set_sph_volumes all lattice 0.001 thickness 0.001 density 1000
+pair_style sph/icb 0.0012 plane stress
+pair_coeff * * 1e9 0.3
+region left block INF 0.003 INF INF INF INF units box
+group mirror region left
+variable u equal -1e-7
+fix clamp mirror sph/mirror x 0.003 displace v_u 0.0 slip yes
+region pin block 0.004 0.005 0.002 0.003 INF INF units box
+group pin region pin
+fix hold pin setforce NULL 0.0 NULL
+variable ty equal -1e5
+fix load all sph/traction x 0.008 traction 0.0 v_ty
+fix_modify load energy yes
+fix press all sph/traction surface pressure 1e4
+fix_modify press energy yes
+min_style sph/newton
+minimize 0.0 1e-14 30 300
+"""
 # the Newton minimiser on the same clamped strip, including its probe of the fixes,
 # the rank-0 gather of the Hessian (2 ranks) and the round-off stop
 INPUTS["icb_mirror_newton"] = INPUTS["icb_mirror_minimize"].replace(
@@ -103,7 +126,8 @@ def valgrind_cmd(nprocs: int) -> list[str]:
 
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind not installed")
 @pytest.mark.parametrize("name,nprocs", [(k, 1) for k in INPUTS] + [("icb_2d_contact", 2),
-                                                                  ("icb_mirror_newton", 2)])
+                                                                  ("icb_mirror_newton", 2),
+                                                                  ("icb_boundary_newton", 2)])
 def test_no_memory_errors(tmp_path, name, nprocs):
     script = tmp_path / f"in.{name}"
     script.write_text(INPUTS[name])
