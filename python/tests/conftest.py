@@ -34,6 +34,15 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
     """)
 
 
+def apply_affine(lmp, A, dim):
+    """Move every particle to x = A x0 (x0 = reference position)."""
+    n = lmp.get_natoms()
+    x = lmp.numpy.extract_atom("x")
+    x0 = lmp.numpy.extract_atom("x0")
+    for i in range(n):
+        x[i, :dim] = A[:dim, :dim] @ x0[i, :dim]
+
+
 def positions(lmp):
     n = lmp.get_natoms()
     return np.array(lmp.numpy.extract_atom("x")[:n], dtype=float)

@@ -9,16 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import block, make_lammps, per_atom, positions
-
-
-def apply_affine(lmp, A, dim):
-    """Move every particle to x = A x0 (x0 = reference position)."""
-    n = lmp.get_natoms()
-    x = lmp.numpy.extract_atom("x")
-    x0 = lmp.numpy.extract_atom("x0")
-    for i in range(n):
-        x[i, :dim] = A[:dim, :dim] @ x0[i, :dim]
+from conftest import apply_affine, block, make_lammps, per_atom, positions
 
 
 def rotation_matrix(dim, angle):

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps
+from conftest import apply_affine, make_lammps
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -108,10 +108,7 @@ def test_uniform_stress_is_an_exact_equilibrium_2d(case, gradient, volumes):
     lmp = make_lammps()
     block(lmp, n, 2, gradient, volumes)
     lmp.command("run 0")
-    x = lmp.numpy.extract_atom("x")
-    x0 = lmp.numpy.extract_atom("x0")
-    for i in range(lmp.get_natoms()):
-        x[i, :2] = F[:2, :2] @ x0[i, :2]
+    apply_affine(lmp, F, 2)
     P = pk1(F, 2)
     face_loads(lmp, P, n, 2)
     lmp.command("run 0")
@@ -133,10 +130,7 @@ def test_uniform_stress_is_an_exact_equilibrium_3d():
     lmp = make_lammps()
     block(lmp, n, 3)
     lmp.command("run 0")
-    x = lmp.numpy.extract_atom("x")
-    x0 = lmp.numpy.extract_atom("x0")
-    for i in range(lmp.get_natoms()):
-        x[i] = F @ x0[i]
+    apply_affine(lmp, F, 3)
     P = pk1(F, 3)
     face_loads(lmp, P, n, 3)
     lmp.command("run 0")
@@ -171,11 +165,9 @@ def test_traction_next_to_a_sliding_mirror_is_an_exact_equilibrium():
         fix sym below sph/mirror y 0.0 slip yes
         run 0
     """)
-    x = lmp.numpy.extract_atom("x")
+    apply_affine(lmp, F, 2)
     x0 = lmp.numpy.extract_atom("x0")
     n = lmp.get_natoms()
-    for i in range(n):
-        x[i, :2] = F[:2, :2] @ x0[i, :2]
     for side, coord in ((-1, 0.0), (1, nx * DX)):
         t = side * P[:, 0]
         lmp.command(f"fix f{side + 1} all sph/traction x {coord} traction {t[0]:.17g} {t[1]:.17g}")
@@ -212,10 +204,7 @@ def test_pressure_on_a_whole_surface_is_the_hydrostatic_equilibrium():
     lmp = make_lammps()
     block(lmp, n, 2)
     lmp.command("run 0")
-    x = lmp.numpy.extract_atom("x")
-    x0 = lmp.numpy.extract_atom("x0")
-    for i in range(lmp.get_natoms()):
-        x[i, :2] = F[:2, :2] @ x0[i, :2]
+    apply_affine(lmp, F, 2)
     P = pk1(F, 2)
     assert abs(P[0, 1]) < 1e-6 and np.isclose(P[0, 0], P[1, 1])
     lmp.command(f"fix p all sph/traction surface pressure {-P[0, 0]:.17g}")
