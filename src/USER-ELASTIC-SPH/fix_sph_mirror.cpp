@@ -269,6 +269,7 @@ void FixSPHMirror::pair_up()
   // atoms of every mirror group (this one's and other fixes') are no
   // sources: a mirror of a mirror is not supported
   auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  if (pair) warn_if_thin(dmin, dmax, pair->get_kernel().support());
   const int other_mirrors = pair ? (pair->mirror_groups() & ~groupbit) : 0;
   std::vector<double> mirrors_mine, cands_mine;
   for (int i = 0; i < nlocal; i++) {
@@ -328,6 +329,26 @@ void FixSPHMirror::pair_up()
   comm_what = COMM_VOLUME;
   comm->forward_comm(this);
   comm_what = COMM_POSITION;
+}
+
+/* ----------------------------------------------------------------------
+   the particles next to the plane (depth dmin on the body's side) have
+   partners down to depth support - dmin on the mirror side.  On a lattice
+   whose layers are 2 dmin apart, a group that stops one layer or more short
+   of that leaves them without mirror partners: the clamp is too soft.
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::warn_if_thin(double dmin, double dmax, double support)
+{
+  if (thin_warned || dmax + 3.0 * dmin >= support) return;
+  thin_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Fix {} sph/mirror: the mirror atoms reach {:.6g} beyond the plane, but the "
+                   "particles next to it have partners down to {:.6g} (the kernel support 2h = "
+                   "{:.6g} less their distance to the plane): they miss mirror partners and the "
+                   "clamp is too soft; make group {} as thick as the kernel support",
+                   id, dmax, support - dmin, support, group->names[igroup]);
 }
 
 /* ----------------------------------------------------------------------

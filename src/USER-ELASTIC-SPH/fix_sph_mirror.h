@@ -77,6 +77,8 @@ class FixSPHMirror : public Fix {
   int comm_what;                   // what forward comm carries
 
   void parse_keywords(int, int, char **);
+  void warn_if_thin(double dmin, double dmax, double support);
+  bool thin_warned = false;
   void pair_up();
   void copy_volume(tagint, double, double);
   int local_source(int i);

@@ -25,11 +25,15 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "pair_sph_elastic.h"
+#include "force.h"
+#include "update.h"
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -40,6 +44,10 @@ using namespace FixConst;
 static constexpr int PACKED_PER_PARTNER = 1 + FixSPHPartners::NPDATA;
 // a moment matrix this badly conditioned means too few partners
 static constexpr double SINGULAR_TOL = 1.0e-10;
+// restart files since the fingerprint was added mark their first value so
+static constexpr int RESTART_V2 = 10;
+// particles closer than this fraction of h are duplicates
+static constexpr double COINCIDENT = 1.0e-6;
 
 /* ---------------------------------------------------------------------- */
 
@@ -61,6 +69,8 @@ FixSPHPartners::FixSPHPartners(LAMMPS *lmp, int narg, char **arg) :
   set_maxexchange();
   comm_forward = NCORR;
   order = 1;
+  builder = 0;
+  known_origin = true;
 
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -86,7 +96,19 @@ FixSPHPartners::~FixSPHPartners()
 
 int FixSPHPartners::setmask()
 {
-  return PRE_FORCE | MIN_PRE_FORCE;
+  return PRE_FORCE | MIN_PRE_FORCE | POST_RUN;
+}
+
+/* ----------------------------------------------------------------------
+   the end of a minimisation is where the pair style checks that the state
+   it reached is a sound equilibrium
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::post_run()
+{
+  if (update->whichflag != 2) return;
+  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair);
+  if (pair) pair->check_minimized_state();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -101,6 +123,42 @@ void FixSPHPartners::init()
 void FixSPHPartners::init_list(int /*id*/, NeighList *ptr)
 {
   list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   the pair style's kernel: partners built (or read from a restart file)
+   with another h or kernel would keep the old ones while the stable time
+   step used the new h, so a change is refused
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::set_kernel(const SPHElastic::Kernel &k, const char *pair_name)
+{
+  if (!first && known_origin && (k.h != kernel.h || k.type != kernel.type))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {} h = {} kernel {}: the reference partners were already built with "
+               "h = {} kernel {} (restart file or earlier run); keep them, or recreate the atoms",
+               pair_name, k.h, k.type == SPHElastic::SINC5 ? "sinc5" : "wendland", kernel.h,
+               kernel.type == SPHElastic::SINC5 ? "sinc5" : "wendland");
+  kernel = k;
+}
+
+/* ----------------------------------------------------------------------
+   sph/ccb evolves its own state (density, deviatoric stress): it cannot
+   continue from a body that sph/icb deformed, which it would take as
+   stress-free.  sph/icb needs only the reference state, so it may continue
+   from anything.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::set_builder(const char *pair_name, bool needs_own_state)
+{
+  const int code = (strcmp(pair_name, "sph/icb") == 0) ? 1 : 2;
+  if (!first && known_origin && needs_own_state && builder != code)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {} cannot continue from a state built by pair style {} (restart file "
+               "or earlier run): its density and stress were not evolved, so the deformed body "
+               "would start stress-free; keep pair style {}, or recreate the atoms",
+               pair_name, builder == 1 ? "sph/icb" : "sph/ccb", builder == 1 ? "sph/icb" : "sph/ccb");
+  if (first) builder = code;
 }
 
 /* ----------------------------------------------------------------------
@@ -124,7 +182,85 @@ void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
 
 void FixSPHPartners::setup_pre_force(int /*vflag*/)
 {
-  if (first) build();
+  if (first)
+    build();
+  else
+    check_reference_unchanged();
+}
+
+/* ----------------------------------------------------------------------
+   order-independent hashes of per-atom data: a sum over atoms of a mixed
+   (atom ID, value) word, so any change of any atom's value shows, on any
+   number of processors
+------------------------------------------------------------------------- */
+
+static uint64_t mix(uint64_t z)
+{
+  // splitmix64 finaliser
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+FixSPHPartners::Fingerprint FixSPHPartners::fingerprint() const
+{
+  uint64_t mine[2] = {0, 0}, all[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    uint64_t bits;
+    std::memcpy(&bits, &atom->vfrac[i], sizeof(bits));
+    const uint64_t id = mix(static_cast<uint64_t>(atom->tag[i]));
+    mine[0] += mix(id ^ bits);
+    mine[1] += mix(id + static_cast<uint64_t>(atom->molecule[i]));
+  }
+  MPI_Allreduce(mine, all, 2, MPI_UINT64_T, MPI_SUM, world);
+  Fingerprint fp;
+  fp.natoms = atom->natoms;
+  fp.mirror_fixes = static_cast<int>(modify->get_fix_by_style("^sph/mirror$").size());
+  fp.volumes = all[0];
+  fp.molecules = all[1];
+  return fp;
+}
+
+/* ----------------------------------------------------------------------
+   the partners describe the reference body as it was at the first run.
+   New reference volumes are honoured (the corrected gradients depend on
+   them and on nothing that moved); atoms created or deleted, or bodies
+   regrouped, would need a partner search in the reference configuration,
+   so they are refused.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::check_reference_unchanged()
+{
+  const Fingerprint now = fingerprint();
+  if (!known_origin) {    // partners from an older restart file: start checking now
+    built_from = now;
+    known_origin = true;
+    return;
+  }
+  if (now.natoms != built_from.natoms)
+    error->all(FLERR, Error::NOLASTLINE,
+               "There are {} atoms, but the reference partners were built for {}: atoms were {} "
+               "after the first run or minimize (delete_atoms, create_atoms, read_data add, or "
+               "atoms lost through a fixed boundary); make the body complete before the first "
+               "run, or recreate it", now.natoms, built_from.natoms,
+               now.natoms > built_from.natoms ? "created" : "deleted or lost");
+  if (now.molecules != built_from.molecules)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Molecule IDs changed after the reference partners were built (set ... mol): "
+               "they tell the bodies apart, which is fixed at the first run or minimize; set them "
+               "before it");
+  if (built_from.mirror_fixes > 0 && now.mirror_fixes == 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "The reference partners were built with fix sph/mirror, which is not defined now: "
+               "fixes are not stored in restart files, so define it again after read_restart "
+               "(without it the mirror atoms would act as free particles of the body)");
+  if (now.volumes != built_from.volumes) {
+    if (comm->me == 0)
+      utils::logmesg(lmp, "Reference volumes changed since the partners were built: corrected "
+                     "kernel gradients recomputed\n");
+    compute_corrections();
+    built_from = now;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -148,7 +284,64 @@ void FixSPHPartners::build()
   neighbor->build_one(list);
   collect_partners();
   compute_corrections();
+  check_volumes_tile_the_body();
+  built_from = fingerprint();
   first = 0;
+}
+
+/* ----------------------------------------------------------------------
+   volumes that tile the body make the Shepard sum S_i = sum_j V_j W_ij
+   (self included) about 1 inside it in 3d, and the thickness t in 2d
+   (2d kernels are per area).  Volumes left at create_atoms' default of 1,
+   or set in other units, are off by orders of magnitude: stop there, and
+   warn when S is off by more than a factor 3.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::check_volumes_tile_the_body()
+{
+  const double *vfrac = atom->vfrac;
+  double mymax[2] = {0.0, 0.0}, all[2];    // largest S, then the ID of its atom
+  for (int i = 0; i < atom->nlocal; i++) {
+    double sum = vfrac[i] * kernel.value(0.0);
+    for (int k = 0; k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      sum += vfrac[j] * kernel.value(pdata[i][k * NPDATA + R0]);
+    }
+    if (sum > mymax[0]) {
+      mymax[0] = sum;
+      mymax[1] = atom->tag[i];
+    }
+  }
+  MPI_Allreduce(mymax, all, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, world);
+  const double shepard = all[0];
+  const auto id = static_cast<tagint>(all[1]);
+  if (shepard <= 0.0) return;
+
+  if (domain->dimension == 3) {
+    const std::string what = fmt::format(
+        "at atom {}, sum_j V_j W_ij = {:.3g}, but volumes that tile the body give about 1 (V = dx^3 "
+        "on a cubic lattice, or set_sph_volumes): are the volumes set, and in the units of the "
+        "positions?", id, shepard);
+    if (shepard > 100.0 || shepard < 0.01)
+      error->all(FLERR, Error::NOLASTLINE, "Reference volumes inconsistent with the particle "
+                 "spacing: {}", what);
+    if ((shepard > 3.0 || shepard < 1.0 / 3.0) && comm->me == 0)
+      error->warning(FLERR, "Reference volumes look inconsistent with the particle spacing: {}",
+                     what);
+    return;
+  }
+  // 2d: V = A t, so the Shepard sum is the thickness the volumes imply
+  const double ratio = shepard / kernel.h;
+  const std::string what = fmt::format(
+      "at atom {} they imply a thickness sum_j V_j W_ij = {:.3g}, {:.3g} times h: are the volumes "
+      "set (V = dx^2 t on a square lattice, or set_sph_volumes), and in the units of the "
+      "positions?", id, shepard, ratio);
+  if (ratio > 1.0e7 || ratio < 1.0e-7)
+    error->all(FLERR, Error::NOLASTLINE, "Reference volumes inconsistent with the particle "
+               "spacing: {}", what);
+  if ((ratio > 1.0e4 || ratio < 1.0e-4) && comm->me == 0)
+    error->warning(FLERR, "Reference volumes look inconsistent with the particle spacing: {}",
+                   what);
 }
 
 /* ----------------------------------------------------------------------
@@ -164,6 +357,7 @@ void FixSPHPartners::collect_partners()
   const tagint *const molecule = atom->molecule;
   const int nlocal = atom->nlocal;
   const double cutsq = kernel.support() * kernel.support();
+  const double coincident_sq = COINCIDENT * COINCIDENT * kernel.h * kernel.h;
 
   std::vector<std::vector<tagint>> found(nlocal);
   int mymax = 0;
@@ -175,7 +369,13 @@ void FixSPHPartners::collect_partners()
       if (molecule[j] != molecule[i] || tag[j] == tag[i]) continue;
       double del[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
       domain->minimum_image(del[0], del[1], del[2]);
-      if (del[0] * del[0] + del[1] * del[1] + del[2] * del[2] < cutsq) found[i].push_back(tag[j]);
+      const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+      if (rsq < coincident_sq)
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Atoms {} and {} have the same reference position ({}, {}, {}): duplicate "
+                   "particles (create_atoms run twice, overlapping regions or lattices?)",
+                   tag[i], tag[j], x0[i][0], x0[i][1], x0[i][2]);
+      if (rsq < cutsq) found[i].push_back(tag[j]);
     }
     // several periodic images of one atom may be neighbours: keep one
     std::sort(found[i].begin(), found[i].end());
@@ -274,12 +474,7 @@ void FixSPHPartners::compute_corrections()
     }
 
     Eigen::LLT<MomentMatrix> llt(moment);
-    if (llt.info() != Eigen::Success || !(llt.rcond() > SINGULAR_TOL))
-      error->one(FLERR, Error::NOLASTLINE,
-                 "Atom {} has {} reference partners, too few for the {} kernel gradient correction "
-                 "(isolated particle, h too small for the particle spacing{})",
-                 atom->tag[i], npartner[i], order == 2 ? "quadratic" : "linear",
-                 order == 2 ? ", or a body too thin for 'gradient quadratic'" : "");
+    if (llt.info() != Eigen::Success || !(llt.rcond() > SINGULAR_TOL)) explain_singular_fit(i);
     // first d rows of A^-1, divided by h to undo the scaling of the offsets
     const MomentMatrix inverse = llt.solve(MomentMatrix::Identity(nbasis, nbasis));
     double *l = lcorr[i];
@@ -322,6 +517,56 @@ void FixSPHPartners::compute_corrections()
       pd[HGW] = 0.5 * (vfrac[i] * std::sqrt(gij) + vfrac[j] * std::sqrt(gji)) / r;
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   why the least-squares fit of atom i is singular, by the span of its
+   partners' offsets: none, all on a line or in a plane (a body one layer
+   thick), or too few across for the quadratic basis
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::explain_singular_fit(int i)
+{
+  const int dim = domain->dimension;
+  const tagint id = atom->tag[i];
+  if (npartner[i] == 0)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Atom {} has no reference partners within 2h = {}: an isolated particle, or h too "
+               "small for the particle spacing (h = 1.2 dx is usual)", id, kernel.support());
+
+  // the partners' reference offsets span fewer than d directions?
+  Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(dim, dim);
+  for (int k = 0; k < npartner[i]; k++) {
+    const int j = find_partner(i, k);
+    if (j < 0) continue;
+    double del[3];
+    for (int a = 0; a < 3; a++) del[a] = atom->x0[j][a] - atom->x0[i][a];
+    domain->minimum_image(del[0], del[1], del[2]);
+    for (int a = 0; a < dim; a++)
+      for (int b = 0; b < dim; b++) spread(a, b) += del[a] * del[b];
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> span(spread);
+  const Eigen::VectorXd lambda = span.eigenvalues();
+  if (lambda(0) <= 1.0e-8 * lambda(dim - 1)) {
+    const Eigen::VectorXd normal = span.eigenvectors().col(0);
+    error->one(FLERR, Error::NOLASTLINE,
+               "Atom {} and its {} reference partners lie {} (normal ({:.3g}, {:.3g}{})): a {}d "
+               "body needs at least {} particle layers across in every direction within 2h{}",
+               id, npartner[i], dim == 3 ? "in one plane" : "on one line", normal(0), normal(1),
+               dim == 3 ? fmt::format(", {:.3g}", normal(2)) : std::string(), dim,
+               order == 2 ? "3 ('gradient quadratic'; 2 with 'gradient linear')" : "2",
+               dim == 3 ? "; model a body one layer thick with dimension 2" : "");
+  }
+  if (order == 2)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Atom {} has {} reference partners, too few for the quadratic kernel gradient "
+               "correction: a body too thin for 'gradient quadratic' (it needs 3 particles across "
+               "within 2h in every direction); use 'gradient linear', refine, or raise h",
+               id, npartner[i]);
+  error->one(FLERR, Error::NOLASTLINE,
+             "Atom {} has {} reference partners, too few for the linear kernel gradient "
+             "correction: h is too small for the particle spacing (h = 1.2 dx is usual)",
+             id, npartner[i]);
 }
 
 /* ----------------------------------------------------------------------
@@ -413,10 +658,20 @@ int FixSPHPartners::unpack_exchange(int nlocal, double *buf)
 void FixSPHPartners::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    int size = 3 * sizeof(double);
-    double list[3] = {(double) first, (double) maxpartner, (double) order};
+    constexpr int n = 10;
+    int size = n * sizeof(double);
+    double list[n] = {(double) (RESTART_V2 + first),
+                      (double) maxpartner,
+                      (double) order,
+                      kernel.h,
+                      (double) kernel.type,
+                      (double) builder,
+                      (double) built_from.natoms,
+                      ubuf(static_cast<int64_t>(built_from.volumes)).d,
+                      ubuf(static_cast<int64_t>(built_from.molecules)).d,
+                      (double) built_from.mirror_fixes};
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 3, fp);
+    fwrite(list, sizeof(double), n, fp);
   }
 }
 
@@ -425,9 +680,21 @@ void FixSPHPartners::write_restart(FILE *fp)
 void FixSPHPartners::restart(char *buf)
 {
   auto *list = (double *) buf;
-  first = static_cast<int>(list[0]);
+  // files of earlier versions store {first, maxpartner, order} only
+  const bool v2 = list[0] >= RESTART_V2;
+  first = static_cast<int>(list[0]) - (v2 ? RESTART_V2 : 0);
   maxpartner = static_cast<int>(list[1]);
   order = static_cast<int>(list[2]);
+  known_origin = v2;
+  if (v2) {
+    kernel = SPHElastic::Kernel(static_cast<SPHElastic::KernelType>(list[4]), list[3],
+                                domain->dimension);
+    builder = static_cast<int>(list[5]);
+    built_from.natoms = static_cast<bigint>(list[6]);
+    built_from.volumes = static_cast<uint64_t>(ubuf(list[7]).i);
+    built_from.molecules = static_cast<uint64_t>(ubuf(list[8]).i);
+    built_from.mirror_fixes = static_cast<int>(list[9]);
+  }
   set_maxexchange();
   memory->destroy(partner);
   memory->destroy(pdata);

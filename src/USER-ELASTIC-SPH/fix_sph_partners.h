@@ -64,8 +64,13 @@ class FixSPHPartners : public Fix {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
 
-  void set_kernel(const SPHElastic::Kernel &k) { kernel = k; }
+  // settings of the pair style; once the partners are built, any other
+  // kernel, h or gradient order is refused (the partners depend on them)
+  void set_kernel(const SPHElastic::Kernel &, const char *);
   void set_gradient_order(int, const char *);    // 1 linear, 2 quadratic
+  // refuse a pair style that cannot continue from a state another style built
+  void set_builder(const char *, bool needs_own_state);
+  void post_run() override;
   bool built() const { return !first; }
   // true if the partners of any sph pair style were built (from the
   // reference positions and volumes, which may then no longer change)
@@ -79,6 +84,16 @@ class FixSPHPartners : public Fix {
 
  private:
   int first;    // 1 until the partners are built
+  // what the partners were built from, to catch later changes: the atom
+  // count, order-independent hashes of the volumes and molecule IDs, the
+  // mirror fixes, and the pair style that built them
+  struct Fingerprint {
+    bigint natoms = 0;
+    uint64_t volumes = 0, molecules = 0;
+    int mirror_fixes = 0;    // fix sph/mirror instances
+  } built_from;
+  int builder;          // 0 unknown, 1 sph/icb, 2 sph/ccb
+  bool known_origin;    // false for partners from a restart file without the above
   class NeighList *list;
   SPHElastic::Kernel kernel;
   int order;         // polynomial order the corrected gradient is exact for
@@ -86,6 +101,10 @@ class FixSPHPartners : public Fix {
   int nmax_lcorr;
 
   void build();
+  Fingerprint fingerprint() const;
+  void check_reference_unchanged();
+  void check_volumes_tile_the_body();
+  void explain_singular_fit(int i);
   void set_maxexchange();
   void collect_partners();
   void compute_corrections();

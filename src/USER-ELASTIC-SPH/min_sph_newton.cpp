@@ -36,6 +36,7 @@
 #include "timer.h"
 #include "update.h"
 
+#include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #ifdef ESPH_HAVE_CHOLMOD
@@ -46,6 +47,7 @@
 #endif
 
 #include <algorithm>
+#include <cfloat>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -57,6 +59,10 @@
 using namespace LAMMPS_NS;
 
 namespace {
+// bodies whose rigid modes are checked at most (by molecule ID)
+constexpr tagint MAX_BODIES_CHECKED = 100000;
+// a rigid mode this little constrained (rows are O(1)) is free
+constexpr double RIGID_MODE_TOL = 1.0e-8;
 constexpr double ARMIJO = 1.0e-4;         // sufficient-decrease fraction of the line search
 constexpr int MAXHALVING = 40;            // step halvings before the line search gives up
 constexpr double ROUNDOFF = 1.0e-13;      // relative energy change below round-off
@@ -351,6 +357,97 @@ int MinSPHNewton::newton_loop(int maxiter)
 }
 
 /* ----------------------------------------------------------------------
+   every body must be held against every rigid motion, or the Hessian is
+   singular.  Per body (molecule ID): the rigid modes (translations and
+   rotations about its centroid, scaled by its size) are tested against
+   the constraint rows of its held coordinates and odd mirror ties (for a
+   tie, 2 x the mode at the mirror atom: exact for translations, close
+   for rotations); a mode that no row sees is free.
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::check_rigid_modes(const std::vector<int> &status_all)
+{
+  const int nlocal = atom->nlocal;
+  const tagint *mol = atom->molecule;
+  const tagint *tag = atom->tag;
+  double **x = atom->x;
+  tagint mymax = 0, nmol = 0;
+  for (int i = 0; i < nlocal; i++) mymax = std::max(mymax, mol[i]);
+  MPI_Allreduce(&mymax, &nmol, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  if (nmol > MAX_BODIES_CHECKED) return;
+  const int nb = nmol + 1;
+  const int nmodes = (dim == 2) ? 3 : 6;
+
+  // centroid and size of each body
+  std::vector<double> sums(4 * nb, 0.0), centroid(4 * nb);
+  for (int i = 0; i < nlocal; i++) {
+    double *row = &sums[4 * mol[i]];
+    for (int a = 0; a < 3; a++) row[a] += x[i][a];
+    row[3] += 1.0;
+  }
+  MPI_Allreduce(sums.data(), centroid.data(), 4 * nb, MPI_DOUBLE, MPI_SUM, world);
+  for (int b = 0; b < nb; b++)
+    for (int a = 0; a < 3; a++) centroid[4 * b + a] /= std::max(centroid[4 * b + 3], 1.0);
+  std::vector<double> reach(nb, 0.0), size(nb);
+  for (int i = 0; i < nlocal; i++) {
+    const double *c = &centroid[4 * mol[i]];
+    const double del[3] = {x[i][0] - c[0], x[i][1] - c[1], x[i][2] - c[2]};
+    const double r = sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+    reach[mol[i]] = std::max(reach[mol[i]], r);
+  }
+  MPI_Allreduce(reach.data(), size.data(), nb, MPI_DOUBLE, MPI_MAX, world);
+
+  // normal matrix of the constraint rows restricted to the rigid modes
+  std::vector<double> normal(nmodes * nmodes * nb, 0.0), normal_all(nmodes * nmodes * nb);
+  for (int i = 0; i < nlocal; i++) {
+    const double *c = &centroid[4 * mol[i]];
+    const double scale = size[mol[i]] > 0.0 ? 1.0 / size[mol[i]] : 0.0;
+    const double d[3] = {(x[i][0] - c[0]) * scale, (x[i][1] - c[1]) * scale,
+                         (x[i][2] - c[2]) * scale};
+    for (int a = 0; a < dim; a++) {
+      const int status = status_all[(tag[i] - 1) * dim + a];
+      if (status != HELD && status != MIRROR) continue;
+      // component a of each rigid mode at this atom: e_a, then (w x d)_a
+      double row[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+      row[a] = 1.0;
+      if (dim == 2) {
+        row[2] = (a == 0) ? -d[1] : d[0];
+      } else {
+        const double rot[3][3] = {{0.0, d[2], -d[1]}, {-d[2], 0.0, d[0]}, {d[1], -d[0], 0.0}};
+        for (int w = 0; w < 3; w++) row[3 + w] = rot[a][w];
+      }
+      const double weight = (status == MIRROR) ? 2.0 : 1.0;
+      double *n = &normal[nmodes * nmodes * mol[i]];
+      for (int p = 0; p < nmodes; p++)
+        for (int q = 0; q < nmodes; q++) n[nmodes * p + q] += weight * weight * row[p] * row[q];
+    }
+  }
+  MPI_Allreduce(normal.data(), normal_all.data(), nmodes * nmodes * nb, MPI_DOUBLE, MPI_SUM, world);
+
+  for (int b = 0; b < nb; b++) {
+    if (centroid[4 * b + 3] == 0.0) continue;
+    const Eigen::Map<const Eigen::MatrixXd> n(&normal_all[nmodes * nmodes * b], nmodes, nmodes);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(n);
+    if (eig.eigenvalues()(0) > RIGID_MODE_TOL) continue;
+    const Eigen::VectorXd mode = eig.eigenvectors().col(0);
+    const double translation = mode.head(dim).norm();
+    std::string motion;
+    if (translation > 0.9)
+      motion = (dim == 2) ? fmt::format("translate along ({:.2g}, {:.2g})", mode(0), mode(1))
+                          : fmt::format("translate along ({:.2g}, {:.2g}, {:.2g})", mode(0),
+                                        mode(1), mode(2));
+    else
+      motion = "rotate";
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton: body {} (molecule ID, {} atoms) is free to {}: nothing "
+               "holds it against this rigid motion, so it has no unique equilibrium. Hold atoms "
+               "of it with fix setforce or clamp it with fix sph/mirror (contact forces are "
+               "loads to this solver, not supports); for a free body use damped dynamics "
+               "(fix viscous)", b, static_cast<bigint>(centroid[4 * b + 3]), motion);
+  }
+}
+
+/* ----------------------------------------------------------------------
    a distinct non-zero test force for each atom ID and component
 ------------------------------------------------------------------------- */
 
@@ -389,14 +486,24 @@ void MinSPHNewton::find_constraints()
     }
   }
 
+  // the fixes' forces alone first: the test forces are scaled to them, so
+  // that they stand out of the round-off of the sum however large the load
   std::vector<double> with_probe(3 * nlocal), without(3 * nlocal);
+  double probe_scale = 1.0;
   for (int pass = 0; pass < 2; pass++) {
+    const bool probing = (pass == 1);
     for (int i = 0; i < nall; i++)
-      for (int a = 0; a < 3; a++) f[i][a] = (pass == 0 && i < nlocal) ? probe_value(tag[i], a) : 0.0;
+      for (int a = 0; a < 3; a++)
+        f[i][a] = (probing && i < nlocal) ? probe_scale * probe_value(tag[i], a) : 0.0;
     if (modify->n_min_post_force) modify->min_post_force(vflag);
-    auto &out = (pass == 0) ? with_probe : without;
+    auto &out = probing ? with_probe : without;
     for (int i = 0; i < nlocal; i++)
       for (int a = 0; a < 3; a++) out[3 * i + a] = f[i][a];
+    if (!probing) {
+      double largest = 1.0;
+      for (double value : without) largest = std::max(largest, fabs(value));
+      MPI_Allreduce(&largest, &probe_scale, 1, MPI_DOUBLE, MPI_MAX, world);
+    }
   }
 
   const bigint ndof = atom->natoms * dim;
@@ -416,12 +523,15 @@ void MinSPHNewton::find_constraints()
           size += probe_value(m, a);
         }
       }
+      // round-off of the test force itself and of the difference of the sums
+      const double tolerance = 1.0e-12 * size * probe_scale +
+          8.0 * DBL_EPSILON * (fabs(with_probe[3 * i + a]) + fabs(without[3 * i + a]));
       if (mirror != source_of.end() && change == 0.0) {
         status[dof] = fix_of[tag[i]]->sign(a) < 0.0 ? MIRROR : MIRROR_EVEN;
         source[dof] = mirror->second;
       } else if (change == 0.0) {
         status[dof] = HELD;
-      } else if (fabs(change - expected) <= 1.0e-12 * size) {
+      } else if (fabs(change - expected * probe_scale) <= tolerance) {
         status[dof] = FREE;
       } else {
         error->one(FLERR, Error::NOLASTLINE,
@@ -457,6 +567,7 @@ void MinSPHNewton::find_constraints()
     }
   if (nfree == 0)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
+  check_rigid_modes(status_all);
   rhs.assign(nfree, 0.0);
   step.assign(nfree, 0.0);
   solver->forget_pattern();
@@ -716,8 +827,18 @@ int MinSPHNewton::line_search(double fdoth)
   const double e0 = ecurrent;
   const double fnorm0 = fnorm_sqr();
   double alpha = 1.0;
+  int ninverted_trials = 0;
   for (int k = 0; k < MAXHALVING; k++) {
     const double e = alpha_step(alpha, 1);
+    // St. Venant-Kirchhoff's energy does not forbid inversion: a step that
+    // turns particles inside out is shortened like one that gains energy
+    tagint inverted_id;
+    double inverted_det;
+    if (pair->count_inverted(inverted_id, inverted_det) > 0) {
+      ninverted_trials++;
+      alpha *= 0.5;
+      continue;
+    }
     if (e <= e0 - ARMIJO * alpha * fdoth) {
       nroundoff = 0;
       ecurrent = e;
@@ -748,9 +869,16 @@ int MinSPHNewton::line_search(double fdoth)
   }
   ecurrent = alpha_step(0.0, 1);
   alpha_final = 0.0;
-  if (comm->me == 0)
-    error->warning(FLERR,
-                   "Min_style sph/newton: no energy decrease along the Newton step; is every "
-                   "external load in the energy ('fix_modify ID energy yes')?");
+  if (comm->me == 0) {
+    if (ninverted_trials == MAXHALVING)
+      error->warning(FLERR,
+                     "Min_style sph/newton: every step along the Newton direction inverts "
+                     "particles; the load is beyond what the body can carry without turning "
+                     "inside out");
+    else
+      error->warning(FLERR,
+                     "Min_style sph/newton: no energy decrease along the Newton step; is every "
+                     "external load in the energy ('fix_modify ID energy yes')?");
+  }
   return ZEROALPHA;
 }

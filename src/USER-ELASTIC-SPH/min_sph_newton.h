@@ -64,6 +64,7 @@ class MinSPHNewton : public MinLineSearch {
   int newton_loop(int);
   void check_style();
   void find_constraints();
+  void check_rigid_modes(const std::vector<int> &status_all);
   double probe_value(tagint, int) const;
   void assemble_and_solve();
   void collect_entries();

@@ -351,9 +351,8 @@ void PairSPHCCB::rate_pass(int i, double back)
 
   if (!std::isfinite(trD) || !std::isfinite(drho))
     error->one(FLERR, Error::NOLASTLINE,
-               "Pair style sph/ccb: non-finite velocity gradient of atom {} at step {}; the run "
-               "has failed (reduce the time step, or the body has broken up)",
-               atom->tag[i], update->ntimestep);
+               "Pair style sph/ccb: non-finite velocity gradient of atom {} at step {}: the run "
+               "has failed; {}", atom->tag[i], update->ntimestep, instability_advice());
 }
 
 /* ----------------------------------------------------------------------
@@ -366,8 +365,15 @@ double PairSPHCCB::stress_output(int i)
   const double p = pressure(i);
   if (!std::isfinite(p))
     error->one(FLERR, Error::NOLASTLINE,
-               "Pair style sph/ccb: non-finite density of atom {} at step {}; the run has failed "
-               "(reduce the time step, or the body has broken up)", atom->tag[i], update->ntimestep);
+               "Pair style sph/ccb: non-finite density of atom {} at step {}: the run has failed; "
+               "{}", atom->tag[i], update->ntimestep, instability_advice());
+  // a particle squeezed through zero volume: the state has blown up, and
+  // the exploding particles would grow a shrink-wrapped box without bound
+  if (atom->rho[i] <= 0.0)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Pair style sph/ccb: atom {} is inverted (density {:.6g} <= 0) at step {}: the run "
+               "has become unstable; {}", atom->tag[i], atom->rho[i], update->ntimestep,
+               instability_advice());
   const double *tau = atom->smd_stress[i];
   double tautau = 0.0;
   for (int c = 0; c < NVOIGT; c++) tautau += (c < 3 ? 1.0 : 2.0) * tau[c] * tau[c];

@@ -25,6 +25,7 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
+#include "update.h"
 
 #include <cmath>
 #include <cstring>
@@ -32,6 +33,32 @@
 using namespace LAMMPS_NS;
 
 static constexpr const char *PARTNERS_ID = "SPH_PARTNERS";
+
+// a Poisson's ratio above this locks a displacement-only scheme
+static constexpr double NU_LOCKING = 0.45;
+// solids: aerogels to osmium, and gels to diamond
+static constexpr double RHO_MIN = 1.0, RHO_MAX = 1.0e5;
+static constexpr double E_MIN = 1.0e2, E_MAX = 1.0e13;
+
+/* ----------------------------------------------------------------------
+   pascal and kg/m^3 in the pressure and density units of a LAMMPS unit
+   style with consistent mechanical units; false for lj (no scale)
+------------------------------------------------------------------------- */
+
+static bool unit_scales(const char *style, double &pascal, double &kg_per_m3)
+{
+  const struct {
+    const char *name;
+    double pascal, kg_per_m3;
+  } table[] = {{"si", 1.0, 1.0}, {"cgs", 0.1, 1.0e3}, {"micro", 1.0e3, 1.0e3}, {"nano", 1.0e6, 1.0e6}};
+  for (const auto &row : table)
+    if (strcmp(style, row.name) == 0) {
+      pascal = row.pascal;
+      kg_per_m3 = row.kg_per_m3;
+      return true;
+    }
+  return false;
+}
 
 // 3d Lame constants of Young's modulus e and Poisson's ratio nu
 static void lame_constants(double e, double nu, double &lambda, double &mu)
@@ -58,6 +85,7 @@ PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
   gradient_order = 1;
   thickness = 0.0;
   dt_unit = 0.0;
+  reported_dt[0] = reported_dt[1] = -1.0;
   nmax_output = 0;
   // compute pair ID all sph/...: [1] = h/c_max, the unit of the stable time step
   nextra = 1;
@@ -192,6 +220,11 @@ void PairSPHElastic::coeff(int narg, char **arg)
   if (nu <= -1.0 || nu >= 0.5)
     error->all(FLERR, 3, "Pair_coeff {} Poisson's ratio nu must satisfy -1 < nu < 0.5, got {}",
                style_name(), nu);
+  if (nu > NU_LOCKING && comm->me == 0)
+    error->warning(FLERR,
+                   "Pair_coeff {} Poisson's ratio {} is close to 0.5: a displacement-only scheme "
+                   "locks volumetrically there, so the body comes out too stiff and the stable "
+                   "time step small; results need checking under refinement", style_name(), nu);
 
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {
@@ -239,9 +272,122 @@ void PairSPHElastic::init_style()
                style_name());
   // settings() may have run before the dimension was final
   kernel = SPHElastic::Kernel(kernel.type, h, domain->dimension);
+  check_units();
   check_atoms();
+  check_material();
   compute_stable_dt();
+  report_stable_dt();
   connect_partners();
+}
+
+/* ----------------------------------------------------------------------
+   the styles take E in pressure units, V in volume units and return
+   energy = pressure x volume and force = energy / length: true only in
+   unit styles whose conversion factors are 1 (not real, metal, electron)
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::check_units()
+{
+  if (force->nktv2p != 1.0 || force->ftm2v != 1.0 || force->mvv2e != 1.0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {} needs consistent mechanical units (energy = pressure x volume, "
+               "force = mass x acceleration): use units si, cgs, micro, nano or lj, not units {}",
+               style_name(), update->unit_style);
+}
+
+/* ----------------------------------------------------------------------
+   densities m/V and moduli far outside those of solids, in a unit style
+   with a scale, are most likely masses left unset or numbers in the wrong
+   units
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::check_material()
+{
+  double pascal, kg_per_m3;
+  if (!unit_scales(update->unit_style, pascal, kg_per_m3)) return;
+
+  double range[2] = {1.0e300, -1.0e300};    // min, -max of rho0 in kg/m^3
+  tagint ids[2] = {0, 0};
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double rho0 = atom->rmass[i] / atom->vfrac[i] * kg_per_m3;
+    if (rho0 < range[0]) {
+      range[0] = rho0;
+      ids[0] = atom->tag[i];
+    }
+    if (-rho0 < range[1]) {
+      range[1] = -rho0;
+      ids[1] = atom->tag[i];
+    }
+  }
+  for (int k = 0; k < 2; k++) {
+    struct {
+      double value;
+      int rank;
+    } mine = {range[k], comm->me}, all;
+    MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
+    tagint id = ids[k];
+    MPI_Bcast(&id, 1, MPI_LMP_TAGINT, all.rank, world);
+    const double rho0 = (k == 0) ? all.value : -all.value;
+    if (id && (rho0 < RHO_MIN || rho0 > RHO_MAX) && comm->me == 0)
+      error->warning(FLERR,
+                     "Pair style {}: atom {} has a reference density m/V = {:.3g} kg/m^3, outside "
+                     "the {:.0g}-{:.0g} kg/m^3 of solids: is its mass set ('set group all mass "
+                     "m', m = rho0 V0), and in units {}?",
+                     style_name(), id, rho0, RHO_MIN, RHO_MAX, update->unit_style);
+  }
+
+  for (int t = 1; t <= atom->ntypes; t++) {
+    if (!setflag[t][t]) continue;
+    const double e = youngs[t] * pascal;
+    if ((e < E_MIN || e > E_MAX) && comm->me == 0)
+      error->warning(FLERR,
+                     "Pair style {}: Young's modulus of type {} is {:.3g} Pa, outside the "
+                     "{:.0g}-{:.0g} Pa of solids: is it given in the pressure unit of units {}?",
+                     style_name(), t, e, E_MIN, E_MAX, update->unit_style);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the stable time step in the log whenever it or the timestep changes,
+   and a warning when the timestep of a run exceeds it
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::report_stable_dt()
+{
+  if (dt_unit <= 0.0) return;
+  const double limit = stable_fraction() * dt_unit;
+  const bool dynamics = update->whichflag == 1;
+  if (dt_unit == reported_dt[0] && (!dynamics || update->dt == reported_dt[1])) return;
+  reported_dt[0] = dt_unit;
+  if (dynamics) reported_dt[1] = update->dt;
+  if (comm->me != 0) return;
+  utils::logmesg(lmp, "Pair style {}: stable time step estimate h/c = {:.6g} (stable up to about "
+                 "{} h/c = {:.6g}){}\n", style_name(), dt_unit, stable_fraction(), limit,
+                 dynamics ? fmt::format("; timestep {:.6g} = {:.3g} h/c", update->dt,
+                                        update->dt / dt_unit) : std::string());
+  if (dynamics && update->dt > limit)
+    error->warning(FLERR,
+                   "Pair style {}: timestep {:.6g} exceeds the stable limit of about {} h/c = "
+                   "{:.6g}: the run will blow up; use 'timestep {:.3g}' (0.25 h/c) or less",
+                   style_name(), update->dt, stable_fraction(), limit, 0.25 * dt_unit);
+}
+
+/* ----------------------------------------------------------------------
+   what a failed run should tell the user about its timestep
+------------------------------------------------------------------------- */
+
+std::string PairSPHElastic::instability_advice() const
+{
+  if (update->whichflag == 2) return "during minimization: the load is too large";
+  if (dt_unit <= 0.0) return "the load or the time step is too large for this resolution";
+  const double ratio = update->dt / dt_unit;
+  if (ratio > stable_fraction())
+    return fmt::format("the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {} h/c "
+                       "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'", update->dt, ratio,
+                       stable_fraction(), dt_unit, 0.25 * dt_unit);
+  return fmt::format("the timestep {:.6g} = {:.3g} h/c is within the stable estimate h/c = {:.6g}, "
+                     "so the load is too large for this resolution or the body lost stability",
+                     update->dt, ratio, dt_unit);
 }
 
 /* ----------------------------------------------------------------------
@@ -257,7 +403,8 @@ void PairSPHElastic::connect_partners()
   if (!partners)
     error->all(FLERR, Error::NOLASTLINE, "Fix ID {} is reserved for pair style {}", PARTNERS_ID,
                style_name());
-  partners->set_kernel(kernel);
+  partners->set_builder(style_name(), needs_own_state());
+  partners->set_kernel(kernel, style_name());
   partners->set_gradient_order(gradient_order, style_name());
 }
 

@@ -18,6 +18,8 @@
 #include "pair.h"
 #include "sph_elastic_kernel.h"
 
+#include <string>
+
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
@@ -57,6 +59,8 @@ class PairSPHElastic : public Pair {
   // local indices of owned atom i's reference partners as the last force
   // computation found them, or nullptr if there are none that are current
   virtual const int *partner_indices(int) const { return nullptr; }
+  // called by the partners fix at the end of every minimisation
+  virtual void check_minimized_state() {}
 
  protected:
   double h;
@@ -69,6 +73,7 @@ class PairSPHElastic : public Pair {
   double *lame_lambda, *lame_mu;   // per type, 2d plane stress uses lambda*
   double *bulk;                    // per type, bulk modulus lambda + 2 mu/3 (3d lambda)
   double dt_unit;                  // h / (largest wave speed): dt <= C * dt_unit
+  double reported_dt[2];           // dt_unit and timestep last reported in the log
   int nmax_output;
   class FixSPHPartners *partners;
 
@@ -78,6 +83,17 @@ class PairSPHElastic : public Pair {
   // the defaults of the derived style's keywords, before they are parsed
   virtual void set_style_defaults() = 0;
   virtual const char *style_name() const = 0;
+  // true if the style evolves a state of its own that another style's run
+  // would leave stale
+  virtual bool needs_own_state() const { return false; }
+  // the largest timestep in units of h/c that is stable in practice
+  virtual double stable_fraction() const = 0;
+  // what to tell a user whose run failed at this step: the timestep against
+  // the stable estimate
+  std::string instability_advice() const;
+  void check_units();
+  void check_material();
+  void report_stable_dt();
   void grow_output();
   void check_atoms();
   void compute_stable_dt();

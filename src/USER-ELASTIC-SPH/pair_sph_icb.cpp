@@ -27,9 +27,10 @@
 #include "fix_sph_partners.h"
 #include "fix_sph_rotation.h"
 #include "memory.h"
-#include "sph_elastic_math.h"
+#include "min.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "sph_elastic_math.h"
 #include "update.h"
 
 #include <cmath>
@@ -65,6 +66,10 @@ PairSPHICB::PairSPHICB(LAMMPS *lmp) :
   nmax_work = maxlocal = 0;
   jlocal_builds = -1;
   jlocal_nlocal = -1;
+  ninverted = 0;
+  inverted_id = 0;
+  inverted_det = 1.0;
+  internal_fsq = 0.0;
   comm_forward = 9;
 }
 
@@ -163,6 +168,7 @@ void PairSPHICB::compute(int eflag, int vflag)
 
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
+  ninverted = 0;
   for (int i = 0; i < nlocal; i++) {
     const double e = two_d ? stress_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4])
                            : stress_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
@@ -189,6 +195,84 @@ void PairSPHICB::compute(int eflag, int vflag)
     else
       force_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
   }
+
+  // the scale of the residual when a minimisation ends
+  if (update->whichflag == 2) {
+    internal_fsq = 0.0;
+    double *const *const f = atom->f;
+    for (int i = 0; i < nlocal; i++) internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+bigint PairSPHICB::count_inverted(tagint &id, double &det) const
+{
+  bigint mine = ninverted, all;
+  MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  struct {
+    double value;
+    int rank;
+  } rank_mine = {ninverted ? 1.0 : 0.0, comm->me}, rank_all;
+  MPI_Allreduce(&rank_mine, &rank_all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  id = inverted_id;
+  det = inverted_det;
+  MPI_Bcast(&id, 1, MPI_LMP_TAGINT, rank_all.rank, world);
+  MPI_Bcast(&det, 1, MPI_DOUBLE, rank_all.rank, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   a minimisation must end in a sound equilibrium.  St. Venant-Kirchhoff's
+   energy stays finite through det F = 0, so a minimiser can converge to a
+   body turned inside out (under a compressive load beyond SVK's limit
+   point there is no other minimum): that is an error.  A minimisation that
+   stopped on its iteration or evaluation limit, or whose line search gave
+   up far from equilibrium, gets a warning with its residual.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::check_minimized_state()
+{
+  tagint id;
+  double det;
+  const bigint n = count_inverted(id, det);
+  if (n > 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Minimize ended with {} inverted particles, e.g. atom {} (det F = {:.6g}): the body "
+               "turned inside out. St. Venant-Kirchhoff's energy stays finite through det F = 0 "
+               "and has no equilibrium in compression beyond a stretch of 1/sqrt(3), so a "
+               "minimiser can converge there; reduce the load, or apply it in steps",
+               n, id, det);
+  report_minimize_residual();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHICB::report_minimize_residual()
+{
+  // a line search that gives up with a residual this small has converged
+  // as far as round-off allows
+  constexpr double RESIDUAL_OK = 1.0e-6;
+  Min *min = update->minimize;
+  const int stop = min->stop_condition;
+  const bool limit = stop == Min::MAXITER || stop == Min::MAXEVAL || stop == Min::TIMEOUT ||
+      stop == Min::MAXVDOTF;
+  const bool search_failed = stop == Min::DOWNHILL || stop == Min::ZEROALPHA ||
+      stop == Min::ZEROQUAD || stop == Min::TRSMALL || stop == Min::INTERROR;
+  if (!limit && !search_failed) return;
+
+  const double residual = sqrt(min->fnorm_sqr());
+  double internal = 0.0;
+  MPI_Allreduce(&internal_fsq, &internal, 1, MPI_DOUBLE, MPI_SUM, world);
+  internal = sqrt(internal);
+  const double ratio = internal > 0.0 ? residual / internal : 0.0;
+  if (search_failed && ratio <= RESIDUAL_OK) return;
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
+                   "force norm {:.6g}: the state is NOT an equilibrium. Raise the iteration "
+                   "limits, or use min_style sph/newton (stress pk1)",
+                   min->stopstr, residual, ratio, internal);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -232,12 +316,7 @@ void PairSPHICB::refresh_partner_indices()
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < partners->npartner[i]; k++) {
       const int j = partners->find_partner(i, k);
-      if (j < 0)
-        error->one(FLERR, Error::NOLASTLINE,
-                   "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost "
-                   "cut-off at step {}; increase it with 'comm_modify cutoff <d>' (d >= 2h times "
-                   "the largest stretch, plus the neighbor skin)",
-                   partners->partner[i][k], atom->tag[i], update->ntimestep);
+      if (j < 0) report_missing_partner(i, k);
       jlocal[i * mp + k] = j;
       const double *pd = &partners->pdata[i][k * FixSPHPartners::NPDATA];
       double *gc = &gcompact[(i * mp + k) * 2 * dim];
@@ -248,6 +327,30 @@ void PairSPHICB::refresh_partner_indices()
     }
   jlocal_builds = neighbor->ncalls;
   jlocal_nlocal = nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   a reference partner that is not on this processor.  On one processor
+   every atom is here, so the partner no longer exists: it left the box
+   through a fixed boundary.  On several it may also lie beyond the ghost
+   cut-off.  (Atoms deleted or created after the build are caught at setup.)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::report_missing_partner(int i, int k) const
+{
+  const tagint id = partners->partner[i][k];
+  if (comm->nprocs == 1)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: reference partner {} of atom {} is gone at step {}: it left "
+               "the box through a fixed boundary ('f'), where LAMMPS drops atoms; use "
+               "shrink-wrapped boundaries ('s' or 'm') or a larger box",
+               id, atom->tag[i], update->ntimestep);
+  error->one(FLERR, Error::NOLASTLINE,
+             "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost cut-off at "
+             "step {}: increase it with 'comm_modify cutoff <d>' (d >= 2h times the largest "
+             "stretch, plus the neighbor skin); or the atom left the box through a fixed "
+             "boundary ('f'): then use 's' or 'm', or a larger box",
+             id, atom->tag[i], update->ntimestep);
 }
 
 /* ----------------------------------------------------------------------
@@ -285,17 +388,26 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
   const double detF = SPHElastic::det3(F);
   if (!std::isfinite(detF))
     error->one(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}; the run "
-               "is unstable (reduce the time step or the load)", atom->tag[i], update->ntimestep);
+               "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}: the run "
+               "has failed; {}", atom->tag[i], update->ntimestep, instability_advice());
   // a mirror atom of fix sph/mirror follows the odd extension of its source's
   // displacement: its F is a bookkeeping device that may even invert, and its
   // strain energy would count the source's a second time
   const bool mirror = atom->mask[i] & mirror_groupbit;
-  // a minimizer's trial step may invert particles; its line search backs off
-  if (detF <= 0.0 && !mirror && update->whichflag != 2)
-    error->one(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: atom {} is inverted (det F = {}) at step {}; the load or the "
-               "time step is too large for this resolution", atom->tag[i], detF, update->ntimestep);
+  if (detF <= 0.0 && !mirror) {
+    // a minimizer's trial step may invert particles: its line search backs
+    // off, and the final state is checked in check_minimized_state()
+    if (update->whichflag == 2) {
+      if (ninverted++ == 0) {
+        inverted_id = atom->tag[i];
+        inverted_det = detF;
+      }
+    } else {
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Pair style sph/icb: atom {} is inverted (det F = {}) at step {}: the run has "
+                 "become unstable; {}", atom->tag[i], detF, update->ntimestep, instability_advice());
+    }
+  }
 
   // Green strain E = (F^T F - I)/2 and 2nd Piola-Kirchhoff S = lambda tr(E) I + 2 mu E
   const int t = atom->type[i];

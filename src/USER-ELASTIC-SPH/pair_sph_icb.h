@@ -51,6 +51,10 @@ class PairSPHICB : public PairSPHElastic {
   bool hessian_is_exact() const { return hourglass == 0.0; }
   void hessian(const HessianSink &) const;
   const int *partner_indices(int) const override;
+  // number of inverted (det F <= 0) atoms at the last force computation,
+  // over all ranks, with the ID and det F of one of them; collective
+  bigint count_inverted(tagint &id, double &det) const;
+  void check_minimized_state() override;
 
  protected:
   int measure;                   // stress measure P = R S (corotated) or F S (pk1)
@@ -65,11 +69,21 @@ class PairSPHICB : public PairSPHElastic {
   int nmax_work, maxlocal;
   bigint jlocal_builds;          // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
+  // found by the last force computation of a minimisation, owned atoms only
+  int ninverted;                 // inverted atoms (det F <= 0, mirror atoms aside)
+  tagint inverted_id;            // one of them
+  double inverted_det;           // its det F
+  double internal_fsq;           // sum of |f_i|^2 of the pair forces
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;
   const char *style_name() const override { return "sph/icb"; }
+  // measured on a vibrating block (h = 1.2 dx, sinc5): unstable from 0.55 h/c
+  // with the quadratic gradient, from 1.0 h/c with the linear one
+  double stable_fraction() const override { return gradient_order == 2 ? 0.5 : 0.8; }
+  void report_minimize_residual();
   void refresh_partner_indices();
+  void report_missing_partner(int i, int k) const;
   template <int DIM> double stress_pass(int i, const int *jl, const double *gc);
   double hourglass_pass(int i, const int *jl);
   template <int DIM> void force_pass(int i, const int *jl, const double *gc);
