@@ -128,10 +128,12 @@ void AtomVecSPHElastic::create_atom_post(int ilocal)
 void AtomVecSPHElastic::data_atom_post(int ilocal)
 {
   if (vfrac[ilocal] <= 0.0)
-    error->one(FLERR, "Invalid volume {} for atom {} in atom_style sph/elastic data file: must be > 0",
+    error->one(FLERR,
+               "Invalid volume {} for atom {} in atom_style sph/elastic data file: must be > 0",
                vfrac[ilocal], atom->tag[ilocal]);
   if (rmass[ilocal] <= 0.0)
-    error->one(FLERR, "Invalid mass {} for atom {} in atom_style sph/elastic data file: must be > 0",
+    error->one(FLERR,
+               "Invalid mass {} for atom {} in atom_style sph/elastic data file: must be > 0",
                rmass[ilocal], atom->tag[ilocal]);
   rho[ilocal] = rmass[ilocal] / vfrac[ilocal];
   drho[ilocal] = 0.0;

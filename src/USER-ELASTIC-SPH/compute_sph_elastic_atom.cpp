@@ -51,8 +51,8 @@ ComputeSPHElasticAtom::ComputeSPHElasticAtom(LAMMPS *lmp, int narg, char **arg) 
     const char *name;
     int quantity, ncols;
   };
-  static const QuantityName known[] = {{"stress", STRESS, 6},  {"vonmises", VONMISES, 1},
-                                       {"strain", STRAIN, 6},  {"rotation", ROTATION, 1},
+  static const QuantityName known[] = {{"stress", STRESS, 6},   {"vonmises", VONMISES, 1},
+                                       {"strain", STRAIN, 6},   {"rotation", ROTATION, 1},
                                        {"stretch", STRETCH, 1}, {"broken", BROKEN, 1},
                                        {"failed", FAILED, 1}};
   int ncols = 0;
@@ -96,7 +96,8 @@ void ComputeSPHElasticAtom::init()
     if (q == STRAIN && !pair->has_green())
       error->all(FLERR, Error::NOLASTLINE,
                  "Compute sph/elastic/atom strain needs a total-Lagrangian pair style (sph/icb); "
-                 "pair style {} has no Green strain", force->pair_style);
+                 "pair style {} has no Green strain",
+                 force->pair_style);
   for (int q : quantities)
     if (q == ROTATION) {
       auto fixes = modify->get_fix_by_style("^sph/rotation$");

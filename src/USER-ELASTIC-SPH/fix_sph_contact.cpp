@@ -123,8 +123,9 @@ void FixSPHContact::init()
   multibody = count_bodies() > 1;
   if (!multibody) {
     if (comm->me == 0)
-      error->warning(FLERR, "Fix {} sph/contact: group {} holds a single body; no contact to compute",
-                     id, group->names[igroup]);
+      error->warning(FLERR,
+                     "Fix {} sph/contact: group {} holds a single body; no contact to compute", id,
+                     group->names[igroup]);
     return;
   }
   check_reach();

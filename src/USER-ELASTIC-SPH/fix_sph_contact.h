@@ -47,16 +47,16 @@ class FixSPHContact : public Fix {
   double compute_vector(int) override;
 
  private:
-  double contact_dx;       // contact distance: pairs closer than this repel
-  double thickness;        // 2d out-of-plane thickness (0 = take the pair style's)
-  double damping;          // damping ratio of each contact (0 = elastic)
-  double **stiffness;      // k per pair of atom types
-  int multibody;           // 0 if the group holds a single body: nothing to do
+  double contact_dx;     // contact distance: pairs closer than this repel
+  double thickness;      // 2d out-of-plane thickness (0 = take the pair style's)
+  double damping;        // damping ratio of each contact (0 = elastic)
+  double **stiffness;    // k per pair of atom types
+  int multibody;         // 0 if the group holds a single body: nothing to do
   int ilevel_respa;
   class NeighList *list;
 
   // this rank's sums of the last force computation, reduced on demand
-  double local[4];         // energy, contacts, sum of |F|, largest overlap / dx
+  double local[4];    // energy, contacts, sum of |F|, largest overlap / dx
   double total[4];
   int reduced;
 

@@ -39,9 +39,9 @@
 #include "pair_sph_icb.h"
 #include "update.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
-#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -128,7 +128,8 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
       if (given != dim && !(dim == 2 && given == 3))
         error->all(FLERR, iarg,
                    "Fix sph/mirror displace takes {} values (the plane's displacement, constants "
-                   "or v_name of equal-style variables), got {}", dim, given);
+                   "or v_name of equal-style variables), got {}",
+                   dim, given);
       for (int a = 0; a < given; a++) disp.set(a, arg[iarg + 1 + a], lmp);
       if (dim == 2 && given == 3 && (disp.is_variable(2) || disp.value[2] != 0.0))
         error->all(FLERR, iarg + 3, "Fix sph/mirror: a 2d displacement has no z component");
@@ -136,7 +137,8 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
     } else {
       error->all(FLERR, iarg,
                  "Unknown fix sph/mirror keyword {}: after the plane come 'displace ux uy [uz]' "
-                 "and 'slip yes|no'", arg[iarg]);
+                 "and 'slip yes|no'",
+                 arg[iarg]);
     }
   }
   if (slip) {
@@ -146,7 +148,8 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
         if (disp.is_variable(a) || disp.value[a] != 0.0)
           error->all(FLERR, Error::NOLASTLINE,
                      "Fix sph/mirror: with slip yes the body slides along the plane; only the "
-                     "normal ({}) component of displace can be prescribed", "xyz"[axis]);
+                     "normal ({}) component of displace can be prescribed",
+                     "xyz"[axis]);
       }
   }
 }
@@ -277,7 +280,8 @@ void FixSPHMirror::pair_up()
     if (mirror && (mask[i] & other_mirrors))
       error->one(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/mirror: atom {} belongs to the groups of two sph/mirror fixes; where "
-                 "two mirror planes meet, leave the corner empty", id, tag[i]);
+                 "two mirror planes meet, leave the corner empty",
+                 id, tag[i]);
     if (!mirror && (mask[i] & other_mirrors)) continue;
     if (!mirror && std::fabs(x0[i][axis] - plane) > dmax + tol) continue;
     auto &dest = mirror ? mirrors_mine : cands_mine;
@@ -371,7 +375,8 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
                "Fix {} sph/mirror: mirror atom {} has volume {} and mass {} but its source {} "
                "and {}; the reference partners were built before this fix could copy the "
                "source's (define fix sph/mirror before the first run, or set equal volumes and "
-               "masses)", id, mirror, atom->vfrac[i], atom->rmass[i], volume, mass);
+               "masses)",
+               id, mirror, atom->vfrac[i], atom->rmass[i], volume, mass);
   atom->vfrac[i] = volume;
   atom->rmass[i] = mass;
 }

@@ -65,16 +65,16 @@ class FixSPHMirror : public Fix {
   double sign(int a) const { return mirror_sign[a]; }
 
  private:
-  int axis;                        // normal of the mirror plane: 0, 1, 2 = x, y, z
-  double plane;                    // its position (reference coordinates)
-  double mirror_sign[3];           // -1 odd (clamped) component, +1 even (sliding)
-  SPHElastic::EqualValues disp;    // prescribed displacement u0 of the plane
+  int axis;                           // normal of the mirror plane: 0, 1, 2 = x, y, z
+  double plane;                       // its position (reference coordinates)
+  double mirror_sign[3];              // -1 odd (clamped) component, +1 even (sliding)
+  SPHElastic::EqualValues disp;       // prescribed displacement u0 of the plane
   std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
   double **fsource;                   // forces handed to sources, owned + ghost atoms
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
   int nmax;
   enum { COMM_POSITION, COMM_VOLUME };
-  int comm_what;                   // what forward comm carries
+  int comm_what;    // what forward comm carries
 
   void parse_keywords(int, int, char **);
   void warn_if_thin(double dmin, double dmax, double support);

@@ -21,12 +21,12 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "force.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
-#include "force.h"
 #include "update.h"
 
 #include <Eigen/Dense>
@@ -157,7 +157,8 @@ void FixSPHPartners::set_builder(const char *pair_name, bool needs_own_state)
                "Pair style {} cannot continue from a state built by pair style {} (restart file "
                "or earlier run): its density and stress were not evolved, so the deformed body "
                "would start stress-free; keep pair style {}, or recreate the atoms",
-               pair_name, builder == 1 ? "sph/icb" : "sph/ccb", builder == 1 ? "sph/icb" : "sph/ccb");
+               pair_name, builder == 1 ? "sph/icb" : "sph/ccb",
+               builder == 1 ? "sph/icb" : "sph/ccb");
   if (first) builder = code;
 }
 
@@ -172,7 +173,8 @@ void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
     error->all(FLERR, Error::NOLASTLINE,
                "Pair style {} gradient {}: the reference partners were already built with gradient "
                "{} (restart file or earlier run); keep it, or recreate the atoms",
-               pair_name, new_order == 2 ? "quadratic" : "linear", order == 2 ? "quadratic" : "linear");
+               pair_name, new_order == 2 ? "quadratic" : "linear",
+               order == 2 ? "quadratic" : "linear");
   order = new_order;
 }
 
@@ -242,7 +244,8 @@ void FixSPHPartners::check_reference_unchanged()
                "There are {} atoms, but the reference partners were built for {}: atoms were {} "
                "after the first run or minimize (delete_atoms, create_atoms, read_data add, or "
                "atoms lost through a fixed boundary); make the body complete before the first "
-               "run, or recreate it", now.natoms, built_from.natoms,
+               "run, or recreate it",
+               now.natoms, built_from.natoms,
                now.natoms > built_from.natoms ? "created" : "deleted or lost");
   if (now.molecules != built_from.molecules)
     error->all(FLERR, Error::NOLASTLINE,
@@ -256,7 +259,8 @@ void FixSPHPartners::check_reference_unchanged()
                "(without it the mirror atoms would act as free particles of the body)");
   if (now.volumes != built_from.volumes) {
     if (comm->me == 0)
-      utils::logmesg(lmp, "Reference volumes changed since the partners were built: corrected "
+      utils::logmesg(lmp,
+                     "Reference volumes changed since the partners were built: corrected "
                      "kernel gradients recomputed\n");
     compute_corrections();
     built_from = now;
@@ -319,12 +323,16 @@ void FixSPHPartners::check_volumes_tile_the_body()
 
   if (domain->dimension == 3) {
     const std::string what = fmt::format(
-        "at atom {}, sum_j V_j W_ij = {:.3g}, but volumes that tile the body give about 1 (V = dx^3 "
+        "at atom {}, sum_j V_j W_ij = {:.3g}, but volumes that tile the body give about 1 (V = "
+        "dx^3 "
         "on a cubic lattice, or set_sph_volumes): are the volumes set, and in the units of the "
-        "positions?", id, shepard);
+        "positions?",
+        id, shepard);
     if (shepard > 100.0 || shepard < 0.01)
-      error->all(FLERR, Error::NOLASTLINE, "Reference volumes inconsistent with the particle "
-                 "spacing: {}", what);
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Reference volumes inconsistent with the particle "
+                 "spacing: {}",
+                 what);
     if ((shepard > 3.0 || shepard < 1.0 / 3.0) && comm->me == 0)
       error->warning(FLERR, "Reference volumes look inconsistent with the particle spacing: {}",
                      what);
@@ -335,10 +343,13 @@ void FixSPHPartners::check_volumes_tile_the_body()
   const std::string what = fmt::format(
       "at atom {} they imply a thickness sum_j V_j W_ij = {:.3g}, {:.3g} times h: are the volumes "
       "set (V = dx^2 t on a square lattice, or set_sph_volumes), and in the units of the "
-      "positions?", id, shepard, ratio);
+      "positions?",
+      id, shepard, ratio);
   if (ratio > 1.0e7 || ratio < 1.0e-7)
-    error->all(FLERR, Error::NOLASTLINE, "Reference volumes inconsistent with the particle "
-               "spacing: {}", what);
+    error->all(FLERR, Error::NOLASTLINE,
+               "Reference volumes inconsistent with the particle "
+               "spacing: {}",
+               what);
   if ((ratio > 1.0e4 || ratio < 1.0e-4) && comm->me == 0)
     error->warning(FLERR, "Reference volumes look inconsistent with the particle spacing: {}",
                    what);
@@ -463,8 +474,9 @@ void FixSPHPartners::compute_corrections()
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);
       if (j < 0)
-        error->one(FLERR, Error::NOLASTLINE, "Reference partner {} of atom {} is not on this processor",
-                   partner[i][k], atom->tag[i]);
+        error->one(FLERR, Error::NOLASTLINE,
+                   "Reference partner {} of atom {} is not on this processor", partner[i][k],
+                   atom->tag[i]);
       double del[3], p[MAXBASIS], r;
       reference_offset(i, j, del);
       const double weight = vfrac[j] * kernel_weight(del, r);
@@ -532,7 +544,8 @@ void FixSPHPartners::explain_singular_fit(int i)
   if (npartner[i] == 0)
     error->one(FLERR, Error::NOLASTLINE,
                "Atom {} has no reference partners within 2h = {}: an isolated particle, or h too "
-               "small for the particle spacing (h = 1.2 dx is usual)", id, kernel.support());
+               "small for the particle spacing (h = 1.2 dx is usual)",
+               id, kernel.support());
 
   // the partners' reference offsets span fewer than d directions?
   Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(dim, dim);

@@ -77,10 +77,10 @@ class FixSPHPartners : public Fix {
   static bool any_built(class Modify *);
   int find_partner(int i, int k);    // local index of partner k of owned atom i
 
-  int maxpartner;     // most partners of any atom
-  int *npartner;      // number of partners of each owned atom
-  tagint **partner;   // partner atom IDs, sorted ascending
-  double **pdata;     // NPDATA doubles per partner
+  int maxpartner;      // most partners of any atom
+  int *npartner;       // number of partners of each owned atom
+  tagint **partner;    // partner atom IDs, sorted ascending
+  double **pdata;      // NPDATA doubles per partner
 
  private:
   int first;    // 1 until the partners are built

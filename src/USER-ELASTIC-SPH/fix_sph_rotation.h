@@ -55,7 +55,7 @@ class FixSPHRotation : public Fix {
   int method;
   double tolerance;
   int maxiter;
-  double **rot;    // per atom: angle, then R row by row (10 columns)
+  double **rot;                           // per atom: angle, then R row by row (10 columns)
   int iter_max_step, unconverged_step;    // this processor, last force call
 
   void rotation_2d(const double F[3][3], double R[3][3]);

@@ -82,7 +82,8 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
     else
       error->all(FLERR, iarg,
                  "Fix sph/traction face must be x, y{} (the normal of the face plane) or "
-                 "surface, got {}", dim == 3 ? ", z" : "", arg[iarg]);
+                 "surface, got {}",
+                 dim == 3 ? ", z" : "", arg[iarg]);
     plane = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
     iarg += 2;
   }
@@ -108,10 +109,11 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
   if (!(given == nvalues || (load == TRACTION && dim == 2 && given == 3)))
     error->all(FLERR, iarg,
                "Fix sph/traction {} takes {} value{}, got {}: constants or v_name of equal-style "
-               "variables", load == TRACTION ? "traction" : "pressure", nvalues,
-               nvalues > 1 ? "s" : "", given);
+               "variables",
+               load == TRACTION ? "traction" : "pressure", nvalues, nvalues > 1 ? "s" : "", given);
   for (int m = 0; m < given; m++) values.set(m, arg[iarg + m], lmp);
-  if (load == TRACTION && dim == 2 && given == 3 && (values.is_variable(2) || values.value[2] != 0.0))
+  if (load == TRACTION && dim == 2 && given == 3 &&
+      (values.is_variable(2) || values.value[2] != 0.0))
     error->all(FLERR, iarg + 2, "Fix sph/traction: a 2d traction has no z component");
 
   for (double &n : normal) n = 0.0;
@@ -211,7 +213,8 @@ void FixSPHTraction::find_side()
     error->all(FLERR, Error::NOLASTLINE,
                "Fix {} sph/traction: the face {} = {} is {} from the nearest atom of group {}, "
                "more than a smoothing length; put the face half a particle spacing beyond the "
-               "body's outermost layer", id, "xyz"[axis], plane, gap, group->names[igroup]);
+               "body's outermost layer",
+               id, "xyz"[axis], plane, gap, group -> names[igroup]);
   half_thickness = 0.5 * (std::fabs(plane - farthest) + gap);
 }
 
@@ -274,7 +277,7 @@ void FixSPHTraction::build_coefficients()
   for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
     mirrors.push_back(dynamic_cast<FixSPHMirror *>(fix));
 
-  std::vector<double> mine;    // (atom ID that takes the load, c[3]) records
+  std::vector<double> mine;                           // (atom ID that takes the load, c[3]) records
   double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
   for (int i = 0; i < atom->nlocal; i++) {
     const bool is_mirror = mask[i] & mirrorbits;
@@ -285,7 +288,8 @@ void FixSPHTraction::build_coefficients()
     if (!jl)
       error->one(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/traction: the partner indices of atom {} are not current; the pair "
-                 "forces must be computed before this fix", id, tag[i]);
+                 "forces must be computed before this fix",
+                 id, tag[i]);
     double b[3], c[3];
     consistent_area(i, jl, b);
     for (int a = 0; a < 3; a++) c[a] = (axis >= 0) ? -w * normal[axis] * b[axis] : b[a];
@@ -309,7 +313,8 @@ void FixSPHTraction::build_coefficients()
     error->warning(FLERR,
                    "Fix {} sph/traction: atoms outside group {} near the face {} = {} carry "
                    "{:.3g} % of its area and get no load; the group should hold the body's atoms "
-                   "near the face", id, group->names[igroup], "xyz"[axis], plane,
+                   "near the face",
+                   id, group->names[igroup], "xyz"[axis], plane,
                    100.0 * share_all[1] / (share_all[0] + share_all[1]));
 
   int nmine = (int) mine.size();

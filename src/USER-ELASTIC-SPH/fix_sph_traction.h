@@ -50,14 +50,14 @@ class FixSPHTraction : public Fix {
 
  private:
   enum { TRACTION, PRESSURE };
-  int load;                    // TRACTION or PRESSURE
-  int axis;                    // normal of the face plane, -1 for a whole surface
-  double plane;                // face position (reference coordinates)
-  double normal[3];            // outward unit normal of the face
+  int load;                          // TRACTION or PRESSURE
+  int axis;                          // normal of the face plane, -1 for a whole surface
+  double plane;                      // face position (reference coordinates)
+  double normal[3];                  // outward unit normal of the face
   SPHElastic::EqualValues values;    // traction vector, or the pressure in value[0]
   int nvalues;
-  double support;              // kernel support 2h
-  double half_thickness;       // atoms nearer to the face than this are its own
+  double support;           // kernel support 2h
+  double half_thickness;    // atoms nearer to the face than this are its own
   // load coefficients of each loaded atom by ID (f[a] = t[a] c[a] on a face,
   // p c[a] on a surface); the same on every rank
   std::unordered_map<tagint, std::array<double, 3>> coefficient;

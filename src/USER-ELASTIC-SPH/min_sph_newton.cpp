@@ -63,12 +63,13 @@ namespace {
 constexpr tagint MAX_BODIES_CHECKED = 100000;
 // a rigid mode this little constrained (rows are O(1)) is free
 constexpr double RIGID_MODE_TOL = 1.0e-8;
-constexpr double ARMIJO = 1.0e-4;         // sufficient-decrease fraction of the line search
-constexpr int MAXHALVING = 40;            // step halvings before the line search gives up
-constexpr double ROUNDOFF = 1.0e-13;      // relative energy change below round-off
-constexpr int ROUNDOFF_WINDOW = 10;       // steps below round-off that must cut |f| by 10 %
-constexpr int MAXSHIFT = 30;              // diagonal shifts tried on an indefinite Hessian
-constexpr double EPS_ENERGY = 1.0e-8;     // as in min_cg.cpp: keeps the etol test meaningful near E = 0
+constexpr double ARMIJO = 1.0e-4;       // sufficient-decrease fraction of the line search
+constexpr int MAXHALVING = 40;          // step halvings before the line search gives up
+constexpr double ROUNDOFF = 1.0e-13;    // relative energy change below round-off
+constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |f| by 10 %
+constexpr int MAXSHIFT = 30;            // diagonal shifts tried on an indefinite Hessian
+constexpr double EPS_ENERGY =
+    1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3, MIRROR_EVEN = 4 };
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
 #ifdef ESPH_HAVE_CHOLMOD
@@ -158,14 +159,18 @@ struct MinSPHNewton::Solver {
     }
   }
 
-  bool has_slots() const { return !entry_slot.empty(); }
+  bool has_slots() const
+  {
+    return !entry_slot.empty();
+  }
 
   static const char *name(bool cholmod)
   {
     if (!cholmod) return "Eigen SimplicialLDLT";
-    return cholmod_threads_allowed()
-        ? "CHOLMOD supernodal LL^T with its OpenMP threads (Eigen LDL^T where not positive definite)"
-        : "CHOLMOD supernodal LL^T, its OpenMP threads off (Eigen LDL^T where not positive definite)";
+    return cholmod_threads_allowed() ? "CHOLMOD supernodal LL^T with its OpenMP threads (Eigen "
+                                       "LDL^T where not positive definite)"
+                                     : "CHOLMOD supernodal LL^T, its OpenMP threads off (Eigen "
+                                       "LDL^T where not positive definite)";
   }
 
   // CHOLMOD 3 runs parts of its supernodal factorisation on a number of OpenMP
@@ -213,8 +218,7 @@ struct MinSPHNewton::Solver {
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), factor(AUTO),
-    nshift(0), nassembly(0), nreused(0), indefinite(false),
-    nroundoff(0), roundoff_fnorm(0.0)
+    nshift(0), nassembly(0), nreused(0), indefinite(false), nroundoff(0), roundoff_fnorm(0.0)
 {
 }
 
@@ -297,8 +301,10 @@ int MinSPHNewton::iterate(int maxiter)
   nassembly = nreused = 0;
   const int stop = newton_loop(maxiter);
   if (comm->nprocs == 1)    // several ranks build every Hessian afresh
-    utils::logmesg(lmp, "  min_style sph/newton: {} Hessians, {} of them added into the last one's "
-                   "pattern\n", nassembly, nreused);
+    utils::logmesg(lmp,
+                   "  min_style sph/newton: {} Hessians, {} of them added into the last one's "
+                   "pattern\n",
+                   nassembly, nreused);
   int saddle = indefinite ? 1 : 0;
   MPI_Bcast(&saddle, 1, MPI_INT, 0, world);
   if (saddle && comm->me == 0)
@@ -433,9 +439,9 @@ void MinSPHNewton::check_rigid_modes(const std::vector<int> &status_all)
     const double translation = mode.head(dim).norm();
     std::string motion;
     if (translation > 0.9)
-      motion = (dim == 2) ? fmt::format("translate along ({:.2g}, {:.2g})", mode(0), mode(1))
-                          : fmt::format("translate along ({:.2g}, {:.2g}, {:.2g})", mode(0),
-                                        mode(1), mode(2));
+      motion = (dim == 2)
+          ? fmt::format("translate along ({:.2g}, {:.2g})", mode(0), mode(1))
+          : fmt::format("translate along ({:.2g}, {:.2g}, {:.2g})", mode(0), mode(1), mode(2));
     else
       motion = "rotate";
     error->all(FLERR, Error::NOLASTLINE,
@@ -443,7 +449,8 @@ void MinSPHNewton::check_rigid_modes(const std::vector<int> &status_all)
                "holds it against this rigid motion, so it has no unique equilibrium. Hold atoms "
                "of it with fix setforce or clamp it with fix sph/mirror (contact forces are "
                "loads to this solver, not supports); for a free body use damped dynamics "
-               "(fix viscous)", b, static_cast<bigint>(centroid[4 * b + 3]), motion);
+               "(fix viscous)",
+               b, static_cast<bigint>(centroid[4 * b + 3]), motion);
   }
 }
 
@@ -563,7 +570,8 @@ void MinSPHNewton::find_constraints()
       dofsign[dof] = (status_all[dof] == MIRROR) ? -1 : 1;
       tied[dof] = 1;
     } else if (status_all[dof] == UNKNOWN) {
-      error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}", dof / dim + 1);
+      error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}",
+                 dof / dim + 1);
     }
   if (nfree == 0)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
@@ -665,7 +673,7 @@ template <typename Add> bool MinSPHNewton::for_each_free_entry(Add &&add) const
 {
   bool going = true;
   const int d = dim;
-  pair->hessian([&](tagint k, tagint l, const double (*block)[3]) {
+  pair->hessian([&](tagint k, tagint l, const double(*block)[3]) {
     for (int a = 0; a < d && going; a++) {
       const bigint kdof = (k - 1) * d + a;
       const int row = reduced[kdof];
@@ -765,8 +773,8 @@ void MinSPHNewton::solve_with_ldlt()
   // part along the negative-curvature modes, and the step converges
   // quadratically to the symmetric equilibrium
   solver->ldlt.factorize(K);
-  bool usable = solver->ldlt.info() == Eigen::Success &&
-      (solver->ldlt.vectorD().array().abs() > 0.0).all();
+  bool usable =
+      solver->ldlt.info() == Eigen::Success && (solver->ldlt.vectorD().array().abs() > 0.0).all();
   if (usable) {
     step_vec = solver->ldlt.solve(rhs_vec);
     usable = step_vec.allFinite() && rhs_vec.dot(step_vec) > 0.0;
@@ -785,8 +793,7 @@ void MinSPHNewton::solve_with_ldlt()
                  MAXSHIFT);
     K.diagonal() = diagonal.array() + shift;
     solver->ldlt.factorize(K);
-    usable = solver->ldlt.info() == Eigen::Success &&
-        (solver->ldlt.vectorD().array() > 0.0).all();
+    usable = solver->ldlt.info() == Eigen::Success && (solver->ldlt.vectorD().array() > 0.0).all();
     if (usable) step_vec = solver->ldlt.solve(rhs_vec);
     shift *= 10.0;
   }

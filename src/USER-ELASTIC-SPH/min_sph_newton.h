@@ -45,21 +45,22 @@ class MinSPHNewton : public MinLineSearch {
   int modify_param(int, char **) override;
 
  private:
-  struct Solver;                      // Eigen matrix and factorisation, rank 0
+  struct Solver;    // Eigen matrix and factorisation, rank 0
   std::unique_ptr<Solver> solver;
   class PairSPHICB *pair;
   int dim;
-  bigint nfree;                        // unconstrained degrees of freedom
-  std::vector<int> reduced;            // dof (tag-1)*dim+a -> free dof index, -1 if held
-  std::vector<signed char> dofsign;    // -1 for a mirror atom's odd dof (it moves against its source)
-  std::vector<char> tied;              // 1 for a mirror atom's dof (its source's is the free one)
-  std::vector<double> rhs, step;       // free-dof force and Newton step
-  int factor;                          // min_modify factor: AUTO, CHOLMOD or LDLT
-  int nshift;                          // diagonal shifts needed in the last factorisation
-  int nassembly, nreused;              // Hessians of this minimization, and those added into K's pattern
-  int nroundoff;                       // line searches in a row that ended below round-off
-  double roundoff_fnorm;               // |f|^2 when that run began
-  bool indefinite;                     // the last unshifted Hessian had negative pivots (rank 0)
+  bigint nfree;                // unconstrained degrees of freedom
+  std::vector<int> reduced;    // dof (tag-1)*dim+a -> free dof index, -1 if held
+  std::vector<signed char>
+      dofsign;                      // -1 for a mirror atom's odd dof (it moves against its source)
+  std::vector<char> tied;           // 1 for a mirror atom's dof (its source's is the free one)
+  std::vector<double> rhs, step;    // free-dof force and Newton step
+  int factor;                       // min_modify factor: AUTO, CHOLMOD or LDLT
+  int nshift;                       // diagonal shifts needed in the last factorisation
+  int nassembly, nreused;    // Hessians of this minimization, and those added into K's pattern
+  int nroundoff;             // line searches in a row that ended below round-off
+  double roundoff_fnorm;     // |f|^2 when that run began
+  bool indefinite;           // the last unshifted Hessian had negative pivots (rank 0)
 
   int newton_loop(int);
   void check_style();

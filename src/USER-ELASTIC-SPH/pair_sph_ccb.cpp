@@ -116,7 +116,8 @@ int PairSPHCCB::parse_keyword(int iarg, int narg, char **arg)
     if (art_dp <= 0.0)
       error->all(FLERR, iarg + 3,
                  "Pair style sph/ccb artificial_stress dp (initial particle spacing) must be > 0, "
-                 "got {}", art_dp);
+                 "got {}",
+                 art_dp);
     return 4;
   }
   return 0;
@@ -145,9 +146,10 @@ void PairSPHCCB::init_style()
   dev_trace = (dim == 2 && plane == PLANE_STRESS) ? 0.5 : 1.0 / 3.0;
   w_dp = (art_eps > 0.0) ? kernel.value(art_dp) : 0.0;
   if (art_eps > 0.0 && !(w_dp > 0.0))
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style sph/ccb artificial_stress dp = {} lies outside the kernel support 2h = {}",
-               art_dp, kernel.support());
+    error->all(
+        FLERR, Error::NOLASTLINE,
+        "Pair style sph/ccb artificial_stress dp = {} lies outside the kernel support 2h = {}",
+        art_dp, kernel.support());
 
   // particles created by create_atoms have rho = 0 until their mass and
   // volume are known: they start at the reference density
@@ -352,7 +354,8 @@ void PairSPHCCB::rate_pass(int i, double back)
   if (!std::isfinite(trD) || !std::isfinite(drho))
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/ccb: non-finite velocity gradient of atom {} at step {}: the run "
-               "has failed; {}", atom->tag[i], update->ntimestep, instability_advice());
+               "has failed; {}",
+               atom->tag[i], update->ntimestep, instability_advice());
 }
 
 /* ----------------------------------------------------------------------
@@ -366,14 +369,15 @@ double PairSPHCCB::stress_output(int i)
   if (!std::isfinite(p))
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/ccb: non-finite density of atom {} at step {}: the run has failed; "
-               "{}", atom->tag[i], update->ntimestep, instability_advice());
+               "{}",
+               atom->tag[i], update->ntimestep, instability_advice());
   // a particle squeezed through zero volume: the state has blown up, and
   // the exploding particles would grow a shrink-wrapped box without bound
   if (atom->rho[i] <= 0.0)
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/ccb: atom {} is inverted (density {:.6g} <= 0) at step {}: the run "
-               "has become unstable; {}", atom->tag[i], atom->rho[i], update->ntimestep,
-               instability_advice());
+               "has become unstable; {}",
+               atom->tag[i], atom->rho[i], update->ntimestep, instability_advice());
   const double *tau = atom->smd_stress[i];
   double tautau = 0.0;
   for (int c = 0; c < NVOIGT; c++) tautau += (c < 3 ? 1.0 : 2.0) * tau[c] * tau[c];
@@ -427,7 +431,8 @@ void PairSPHCCB::force_pass(int i)
       if (vdotx < 0.0) {
         const double mu = h * vdotx / (rsq + ETA2 * h * h);
         const double cj = std::sqrt(pwave[type[j]] * vfrac[j] / rmass[j]);
-        pi_ij = (-visc_alpha * 0.5 * (ci + cj) * mu + visc_beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
+        pi_ij =
+            (-visc_alpha * 0.5 * (ci + cj) * mu + visc_beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
       }
     }
     const double fn = (art_eps > 0.0) ? std::pow(kernel.value(r) / w_dp, art_n) : 0.0;

@@ -51,17 +51,17 @@ class PairSPHCCB : public PairSPHElastic {
   double **dtau;    // rate of the deviatoric stress of owned atoms (Voigt), for the integrator
 
  protected:
-  double visc_alpha, visc_beta;    // Monaghan artificial viscosity a, b (0 = off)
-  double art_eps, art_n, art_dp;   // Gray artificial stress eps, exponent n, initial spacing
-  double w_dp;                     // W(art_dp), the denominator of the kernel ratio
-  double *pwave;                   // per type, P-wave modulus (lambda + 2 mu, lambda* in plane stress)
-  double *bulk_eff;                // per type, bulk modulus of the equation of state
-  double dev_trace;                // 1/3 (3d, plane strain) or 1/2 (plane stress) in dev(.)
-  double kernel_measure;           // 1/thickness in 2d, 1 in 3d: m/rho is a volume, W' per area
-  double **sigma_rho2;             // sigma/rho^2 of owned and ghost atoms (3x3 row-major)
-  double **artstress;              // Gray's R of owned and ghost atoms (3x3 row-major)
+  double visc_alpha, visc_beta;     // Monaghan artificial viscosity a, b (0 = off)
+  double art_eps, art_n, art_dp;    // Gray artificial stress eps, exponent n, initial spacing
+  double w_dp;                      // W(art_dp), the denominator of the kernel ratio
+  double *pwave;            // per type, P-wave modulus (lambda + 2 mu, lambda* in plane stress)
+  double *bulk_eff;         // per type, bulk modulus of the equation of state
+  double dev_trace;         // 1/3 (3d, plane strain) or 1/2 (plane stress) in dev(.)
+  double kernel_measure;    // 1/thickness in 2d, 1 in 3d: m/rho is a volume, W' per area
+  double **sigma_rho2;      // sigma/rho^2 of owned and ghost atoms (3x3 row-major)
+  double **artstress;       // Gray's R of owned and ghost atoms (3x3 row-major)
   int nmax_work;
-  int comm_mode;                   // what the forward communication carries
+  int comm_mode;    // what the forward communication carries
   class NeighList *list;
 
   int parse_keyword(int, int, char **) override;

@@ -50,7 +50,8 @@ static bool unit_scales(const char *style, double &pascal, double &kg_per_m3)
   const struct {
     const char *name;
     double pascal, kg_per_m3;
-  } table[] = {{"si", 1.0, 1.0}, {"cgs", 0.1, 1.0e3}, {"micro", 1.0e3, 1.0e3}, {"nano", 1.0e6, 1.0e6}};
+  } table[] = {
+      {"si", 1.0, 1.0}, {"cgs", 0.1, 1.0e3}, {"micro", 1.0e3, 1.0e3}, {"nano", 1.0e6, 1.0e6}};
   for (const auto &row : table)
     if (strcmp(style, row.name) == 0) {
       pascal = row.pascal;
@@ -139,7 +140,8 @@ void PairSPHElastic::settings(int narg, char **arg)
   if (narg < 1) utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name(), error);
   h = utils::numeric(FLERR, arg[0], false, lmp);
   if (h <= 0.0)
-    error->all(FLERR, Error::ARGZERO, "Pair style {} smoothing length h must be > 0, got {}", style_name(), h);
+    error->all(FLERR, Error::ARGZERO, "Pair style {} smoothing length h must be > 0, got {}",
+               style_name(), h);
 
   // a pair_style command given again starts from the documented defaults,
   // not from the settings of the last one
@@ -153,7 +155,8 @@ void PairSPHElastic::settings(int narg, char **arg)
   while (iarg < narg) {
     if (strcmp(arg[iarg], "kernel") == 0) {
       if (iarg + 1 >= narg)
-        utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name() + " kernel", error);
+        utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name() + " kernel",
+                                error);
       if (strcmp(arg[iarg + 1], "sinc5") == 0)
         ktype = SPHElastic::SINC5;
       else if (strcmp(arg[iarg + 1], "wendland") == 0)
@@ -176,7 +179,8 @@ void PairSPHElastic::settings(int narg, char **arg)
       iarg += 2;
     } else if (strcmp(arg[iarg], "thickness") == 0) {
       if (iarg + 1 >= narg)
-        utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name() + " thickness", error);
+        utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name() + " thickness",
+                                error);
       thickness = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (thickness <= 0.0)
         error->all(FLERR, iarg + 1, "Pair style {} thickness must be > 0, got {}", style_name(),
@@ -184,7 +188,8 @@ void PairSPHElastic::settings(int narg, char **arg)
       iarg += 2;
     } else {
       const int used = parse_keyword(iarg, narg, arg);
-      if (used == 0) error->all(FLERR, iarg, "Unknown pair_style {} keyword: {}", style_name(), arg[iarg]);
+      if (used == 0)
+        error->all(FLERR, iarg, "Unknown pair_style {} keyword: {}", style_name(), arg[iarg]);
       iarg += used;
     }
   }
@@ -211,12 +216,15 @@ void PairSPHElastic::coeff(int narg, char **arg)
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
   utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
   if (ilo == ihi && jlo == jhi && ilo != jlo)
-    error->all(FLERR, "Pair_coeff {} sets a per-type material: use 'pair_coeff I I E nu' or "
-               "'pair_coeff * * E nu', not a cross pair {} {}", style_name(), ilo, jlo);
+    error->all(FLERR,
+               "Pair_coeff {} sets a per-type material: use 'pair_coeff I I E nu' or "
+               "'pair_coeff * * E nu', not a cross pair {} {}",
+               style_name(), ilo, jlo);
 
   const double e = utils::numeric(FLERR, arg[2], false, lmp);
   const double nu = utils::numeric(FLERR, arg[3], false, lmp);
-  if (e <= 0.0) error->all(FLERR, 2, "Pair_coeff {} Young's modulus E must be > 0, got {}", style_name(), e);
+  if (e <= 0.0)
+    error->all(FLERR, 2, "Pair_coeff {} Young's modulus E must be > 0, got {}", style_name(), e);
   if (nu <= -1.0 || nu >= 0.5)
     error->all(FLERR, 3, "Pair_coeff {} Poisson's ratio nu must satisfy -1 < nu < 0.5, got {}",
                style_name(), nu);
@@ -224,7 +232,8 @@ void PairSPHElastic::coeff(int narg, char **arg)
     error->warning(FLERR,
                    "Pair_coeff {} Poisson's ratio {} is close to 0.5: a displacement-only scheme "
                    "locks volumetrically there, so the body comes out too stiff and the stable "
-                   "time step small; results need checking under refinement", style_name(), nu);
+                   "time step small; results need checking under refinement",
+                   style_name(), nu);
 
   int count = 0;
   for (int i = ilo; i <= ihi; i++) {
@@ -244,7 +253,8 @@ void PairSPHElastic::coeff(int narg, char **arg)
 double PairSPHElastic::init_one(int i, int j)
 {
   if (!setflag[i][i] || !setflag[j][j])
-    error->all(FLERR, Error::NOLASTLINE, "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu",
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu",
                style_name(), setflag[i][i] ? j : i, setflag[i][i] ? j : i, setflag[i][i] ? j : i);
 
   for (int t : {i, j}) {
@@ -265,7 +275,8 @@ double PairSPHElastic::init_one(int i, int j)
 void PairSPHElastic::init_style()
 {
   if (!atom->style_match("sph/elastic"))
-    error->all(FLERR, Error::NOLASTLINE, "Pair style {} requires atom_style sph/elastic", style_name());
+    error->all(FLERR, Error::NOLASTLINE, "Pair style {} requires atom_style sph/elastic",
+               style_name());
   if ((plane_given || thickness > 0.0) && domain->dimension != 2)
     error->all(FLERR, Error::NOLASTLINE,
                "Pair style {} keywords plane and thickness are only valid for 2d simulations",
@@ -361,10 +372,13 @@ void PairSPHElastic::report_stable_dt()
   reported_dt[0] = dt_unit;
   if (dynamics) reported_dt[1] = update->dt;
   if (comm->me != 0) return;
-  utils::logmesg(lmp, "Pair style {}: stable time step estimate h/c = {:.6g} (stable up to about "
-                 "{} h/c = {:.6g}){}\n", style_name(), dt_unit, stable_fraction(), limit,
-                 dynamics ? fmt::format("; timestep {:.6g} = {:.3g} h/c", update->dt,
-                                        update->dt / dt_unit) : std::string());
+  utils::logmesg(
+      lmp,
+      "Pair style {}: stable time step estimate h/c = {:.6g} (stable up to about "
+      "{} h/c = {:.6g}){}\n",
+      style_name(), dt_unit, stable_fraction(), limit,
+      dynamics ? fmt::format("; timestep {:.6g} = {:.3g} h/c", update->dt, update->dt / dt_unit)
+               : std::string());
   if (dynamics && update->dt > limit)
     error->warning(FLERR,
                    "Pair style {}: timestep {:.6g} exceeds the stable limit of about {} h/c = "
@@ -383,8 +397,8 @@ std::string PairSPHElastic::instability_advice() const
   const double ratio = update->dt / dt_unit;
   if (ratio > stable_fraction())
     return fmt::format("the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {} h/c "
-                       "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'", update->dt, ratio,
-                       stable_fraction(), dt_unit, 0.25 * dt_unit);
+                       "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'",
+                       update->dt, ratio, stable_fraction(), dt_unit, 0.25 * dt_unit);
   return fmt::format("the timestep {:.6g} = {:.3g} h/c is within the stable estimate h/c = {:.6g}, "
                      "so the load is too large for this resolution or the body lost stability",
                      update->dt, ratio, dt_unit);
@@ -432,7 +446,8 @@ void PairSPHElastic::check_atoms()
   if (allbad[1])
     error->all(FLERR, Error::NOLASTLINE,
                "Pair style {}: atom {} has a non-positive mass; set it with 'set group all mass m' "
-               "(m = rho0 V0)", style_name(), allbad[1]);
+               "(m = rho0 V0)",
+               style_name(), allbad[1]);
 }
 
 /* ----------------------------------------------------------------------

@@ -67,13 +67,13 @@ class PairSPHElastic : public Pair {
   SPHElastic::Kernel kernel;
   int plane;
   int plane_given;
-  double thickness;                // 2d out-of-plane thickness (0 = not given)
-  int gradient_order;              // 1: paper's linear correction, 2: exact for quadratic fields
-  double *youngs, *poisson;        // per type, from pair_coeff
-  double *lame_lambda, *lame_mu;   // per type, 2d plane stress uses lambda*
-  double *bulk;                    // per type, bulk modulus lambda + 2 mu/3 (3d lambda)
-  double dt_unit;                  // h / (largest wave speed): dt <= C * dt_unit
-  double reported_dt[2];           // dt_unit and timestep last reported in the log
+  double thickness;                 // 2d out-of-plane thickness (0 = not given)
+  int gradient_order;               // 1: paper's linear correction, 2: exact for quadratic fields
+  double *youngs, *poisson;         // per type, from pair_coeff
+  double *lame_lambda, *lame_mu;    // per type, 2d plane stress uses lambda*
+  double *bulk;                     // per type, bulk modulus lambda + 2 mu/3 (3d lambda)
+  double dt_unit;                   // h / (largest wave speed): dt <= C * dt_unit
+  double reported_dt[2];            // dt_unit and timestep last reported in the log
   int nmax_output;
   class FixSPHPartners *partners;
 
@@ -105,7 +105,8 @@ class PairSPHElastic : public Pair {
     fi[0] += fij[0];
     fi[1] += fij[1];
     fi[2] += fij[2];
-    if (vflag_either) ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], del[0], del[1], del[2]);
+    if (vflag_either)
+      ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], del[0], del[1], del[2]);
   }
 };
 

@@ -137,7 +137,7 @@ int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
 void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
-  jlocal_builds = -1;    // neighbor->ncalls restarts from 0 at every init
+  jlocal_builds = -1;     // neighbor->ncalls restarts from 0 at every init
   mirror_groupbit = 0;    // fix sph/mirror, initialised after the pair, sets it again
 
   auto fixes = modify->get_fix_by_style("^sph/rotation$");
@@ -200,7 +200,8 @@ void PairSPHICB::compute(int eflag, int vflag)
   if (update->whichflag == 2) {
     internal_fsq = 0.0;
     double *const *const f = atom->f;
-    for (int i = 0; i < nlocal; i++) internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
+    for (int i = 0; i < nlocal; i++)
+      internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
   }
 }
 
@@ -389,7 +390,8 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
   if (!std::isfinite(detF))
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/icb: non-finite deformation gradient of atom {} at step {}: the run "
-               "has failed; {}", atom->tag[i], update->ntimestep, instability_advice());
+               "has failed; {}",
+               atom->tag[i], update->ntimestep, instability_advice());
   // a mirror atom of fix sph/mirror follows the odd extension of its source's
   // displacement: its F is a bookkeeping device that may even invert, and its
   // strain energy would count the source's a second time
@@ -405,7 +407,8 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
     } else {
       error->one(FLERR, Error::NOLASTLINE,
                  "Pair style sph/icb: atom {} is inverted (det F = {}) at step {}: the run has "
-                 "become unstable; {}", atom->tag[i], detF, update->ntimestep, instability_advice());
+                 "become unstable; {}",
+                 atom->tag[i], detF, update->ntimestep, instability_advice());
     }
   }
 
@@ -430,7 +433,7 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
 
   double R[3][3];
   if (rotfix) rotfix->rotation(i, F, R);
-  const double (*M)[3] = (measure == COROTATED) ? R : F;
+  const double(*M)[3] = (measure == COROTATED) ? R : F;
   const double vi = atom->vfrac[i];
   double *Q = qstress[i];
   for (int a = 0; a < 3; a++)
@@ -442,7 +445,8 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
   // output: Cauchy stress (1/J) F S F^T and Green strain
   double FS[3][3];
   for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
+    for (int b = 0; b < 3; b++)
+      FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
   for (int v = 0; v < NSYMM; v++) {
     const int a = SPHElastic::VOIGT_ROW[v], b = SPHElastic::VOIGT_COL[v];
     cauchy[i][v] = (FS[a][0] * F[b][0] + FS[a][1] * F[b][1] + FS[a][2] * F[b][2]) / detF;
@@ -482,8 +486,9 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
     const double *Fj = defgrad[j];
     double d[3];
     for (int a = 0; a < 3; a++) {
-      const double fx = 0.5 * ((Fi[3 * a] + Fj[3 * a]) * X[0] + (Fi[3 * a + 1] + Fj[3 * a + 1]) * X[1] +
-                               (Fi[3 * a + 2] + Fj[3 * a + 2]) * X[2]);
+      const double fx = 0.5 *
+          ((Fi[3 * a] + Fj[3 * a]) * X[0] + (Fi[3 * a + 1] + Fj[3 * a + 1]) * X[1] +
+           (Fi[3 * a + 2] + Fj[3 * a + 2]) * X[2]);
       d[a] = x[j][a] - x[i][a] - fx;
     }
     energy += 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);

@@ -57,23 +57,23 @@ class PairSPHICB : public PairSPHElastic {
   void check_minimized_state() override;
 
  protected:
-  int measure;                   // stress measure P = R S (corotated) or F S (pk1)
-  double hourglass;              // hourglass-control coefficient alpha (0 = off)
-  int comm_what;                 // what forward comm carries: F or Q
-  int mirror_groupbit;           // groups whose atoms have no strain energy, set by fixes
+  int measure;            // stress measure P = R S (corotated) or F S (pk1)
+  double hourglass;       // hourglass-control coefficient alpha (0 = off)
+  int comm_what;          // what forward comm carries: F or Q
+  int mirror_groupbit;    // groups whose atoms have no strain energy, set by fixes
   class FixSPHRotation *rotfix;
-  double **defgrad;              // per atom F (3x3 row-major), forwarded with hourglass control
-  double **qstress;              // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
-  int *jlocal;                   // local index of each partner, since the last rebuild
-  double *gcompact;              // g_ij then g_ji of each partner, d doubles each
+  double **defgrad;    // per atom F (3x3 row-major), forwarded with hourglass control
+  double **qstress;    // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
+  int *jlocal;         // local index of each partner, since the last rebuild
+  double *gcompact;    // g_ij then g_ji of each partner, d doubles each
   int nmax_work, maxlocal;
-  bigint jlocal_builds;          // neighbor->ncalls when jlocal was filled
+  bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
   // found by the last force computation of a minimisation, owned atoms only
-  int ninverted;                 // inverted atoms (det F <= 0, mirror atoms aside)
-  tagint inverted_id;            // one of them
-  double inverted_det;           // its det F
-  double internal_fsq;           // sum of |f_i|^2 of the pair forces
+  int ninverted;          // inverted atoms (det F <= 0, mirror atoms aside)
+  tagint inverted_id;     // one of them
+  double inverted_det;    // its det F
+  double internal_fsq;    // sum of |f_i|^2 of the pair forces
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;

@@ -160,8 +160,8 @@ void SetSPHVolumes::parse_keywords(int iarg, int narg, char **arg)
       else if (strcmp(arg[iarg + 1], "none") == 0)
         correct = false;
       else
-        error->all(FLERR, iarg + 1,
-                   "Unknown set_sph_volumes correction {}: use surface or none", arg[iarg + 1]);
+        error->all(FLERR, iarg + 1, "Unknown set_sph_volumes correction {}: use surface or none",
+                   arg[iarg + 1]);
     } else {
       error->all(FLERR, iarg, "Unknown set_sph_volumes keyword {}", arg[iarg]);
     }
@@ -172,8 +172,7 @@ void SetSPHVolumes::parse_keywords(int iarg, int narg, char **arg)
                "Set_sph_volumes in 2d needs the out-of-plane thickness: add 'thickness <t>' "
                "(the volume of a particle is its cell area times t)");
   if (dim == 3 && thickness > 0.0)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Set_sph_volumes thickness is for 2d simulations only");
+    error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes thickness is for 2d simulations only");
 }
 
 /* ----------------------------------------------------------------------
@@ -206,7 +205,8 @@ void SetSPHVolumes::lattice_weights(std::vector<double> &volume)
     if (std::fabs(prd[a] / spacing - (double) period[a]) > LATTICE_TOL)
       error->all(FLERR, Error::NOLASTLINE,
                  "Set_sph_volumes lattice: the periodic box length in {} ({}) is not a multiple "
-                 "of the spacing {}", "xyz"[a], prd[a], spacing);
+                 "of the spacing {}",
+                 "xyz"[a], prd[a], spacing);
   }
 
   local_site.clear();
@@ -235,7 +235,8 @@ void SetSPHVolumes::lattice_weights(std::vector<double> &volume)
     if (!fresh)
       error->one(FLERR, Error::NOLASTLINE,
                  "Set_sph_volumes lattice: atoms {} and {} occupy the same lattice site (duplicate "
-                 "or coincident particles)", tag[it->second], tag[i]);
+                 "or coincident particles)",
+                 tag[it->second], tag[i]);
     sites.push_back(s);
   }
 
@@ -312,7 +313,9 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
   const tagint *tag = atom->tag;
   double **x0 = atom->x0;
 
-  auto radius = [&](int i) { return std::hypot(x0[i][0] - centre[0], x0[i][1] - centre[1]); };
+  auto radius = [&](int i) {
+    return std::hypot(x0[i][0] - centre[0], x0[i][1] - centre[1]);
+  };
   double rmine[2] = {INFINITY, -INFINITY}, r_lo, r_hi;
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit) {
@@ -342,7 +345,8 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
     if (std::fabs(u - (double) k) > LATTICE_TOL)
       error->one(FLERR, Error::NOLASTLINE,
                  "Set_sph_volumes polar: atom {} at radius {} is not on a circle r = {} + k*{} "
-                 "about ({}, {})", tag[i], radius(i), r_lo, spacing, centre[0], centre[1]);
+                 "about ({}, {})",
+                 tag[i], radius(i), r_lo, spacing, centre[0], centre[1]);
     layer[i] = (int) k;
     const double theta = std::atan2(x0[i][1] - centre[1], x0[i][0] - centre[0]);
     double *m = &moments[5 * k];
@@ -363,7 +367,8 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
       error->all(FLERR, Error::NOLASTLINE,
                  "Set_sph_volumes polar: the {} atoms on the circle of radius {} are not evenly "
                  "spaced in angle (at least 3 are needed); polar volumes need every circle "
-                 "evenly filled", (bigint) m[0], r);
+                 "evenly filled",
+                 (bigint) m[0], r);
   }
 
   bigint nthin = 0;
@@ -386,7 +391,8 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
   if (correct && nthin_all && comm->me == 0)
     error->warning(FLERR,
                    "Set_sph_volumes polar: {} atoms lie in walls of only 1 or 2 layers, where no "
-                   "end correction is exact; their volumes are not corrected", nthin_all);
+                   "end correction is exact; their volumes are not corrected",
+                   nthin_all);
 }
 
 /* ----------------------------------------------------------------------
@@ -408,7 +414,8 @@ void SetSPHVolumes::assign(const std::vector<double> &volume, const char *groupn
     else
       error->one(FLERR, Error::NOLASTLINE,
                  "Set_sph_volumes: atom {} has no volume to keep its density from; give "
-                 "'density <rho>'", atom->tag[i]);
+                 "'density <rho>'",
+                 atom->tag[i]);
     vfrac[i] = volume[i];
     sums[0] += 1.0;
     sums[1] += volume[i];
@@ -418,6 +425,6 @@ void SetSPHVolumes::assign(const std::vector<double> &volume, const char *groupn
     error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes: group {} has no atoms", groupname);
   if (comm->me == 0)
     utils::logmesg(lmp, "Set the volumes of {} atoms in group {} ({}): total volume {:.10g}\n",
-                   (bigint) sums_all[0], groupname,
-                   correct ? "surface-corrected" : "plain cells", sums_all[1]);
+                   (bigint) sums_all[0], groupname, correct ? "surface-corrected" : "plain cells",
+                   sums_all[1]);
 }

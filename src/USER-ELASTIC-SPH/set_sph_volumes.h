@@ -49,18 +49,18 @@ class SetSPHVolumes : public Command {
  private:
   int groupbit;
   int dim;
-  double spacing;        // lattice spacing (lattice) or layer spacing (polar)
-  double thickness;      // 2d out-of-plane thickness
-  double density;        // mass = density * volume if > 0, else keep m/V
-  bool correct;          // apply the surface correction
-  double centre[2];      // polar: centre of the circles
+  double spacing;      // lattice spacing (lattice) or layer spacing (polar)
+  double thickness;    // 2d out-of-plane thickness
+  double density;      // mass = density * volume if > 0, else keep m/V
+  bool correct;        // apply the surface correction
+  double centre[2];    // polar: centre of the circles
 
   // lattice mode: per owned group atom, which sites at 1..3 spacings in
   // -x, +x, -y, +y, -z, +z exist (bit 3*(2*axis+side) + offset-1)
   std::unordered_map<Site, int, SiteHash> local_site;    // site -> owned atom index
   std::vector<int> present;
-  long long lo[3], hi[3];      // bounds of the owned sites, for a cheap test
-  long long period[3];         // sites per periodic box length, 0 if not periodic
+  long long lo[3], hi[3];    // bounds of the owned sites, for a cheap test
+  long long period[3];       // sites per periodic box length, 0 if not periodic
 
   void parse_keywords(int, int, char **);
   void lattice_weights(std::vector<double> &);

@@ -17,24 +17,25 @@
 namespace LAMMPS_NS {
 namespace SPHElastic {
 
-// symmetric tensors are stored as 6 Voigt components xx yy zz xy xz yz;
-// component v is the (VOIGT_ROW[v], VOIGT_COL[v]) entry
-static constexpr int NVOIGT = 6;
-static constexpr int VOIGT_ROW[NVOIGT] = {0, 1, 2, 0, 0, 1};
-static constexpr int VOIGT_COL[NVOIGT] = {0, 1, 2, 1, 2, 2};
+  // symmetric tensors are stored as 6 Voigt components xx yy zz xy xz yz;
+  // component v is the (VOIGT_ROW[v], VOIGT_COL[v]) entry
+  static constexpr int NVOIGT = 6;
+  static constexpr int VOIGT_ROW[NVOIGT] = {0, 1, 2, 0, 0, 1};
+  static constexpr int VOIGT_COL[NVOIGT] = {0, 1, 2, 1, 2, 2};
 
-inline double det3(const double m[3][3])
-{
-  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-      m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-      m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-}
+  inline double det3(const double m[3][3])
+  {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+        m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+        m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
 
-// full 3x3 from Voigt components
-inline void voigt_to_matrix(const double *v, double m[3][3])
-{
-  for (int c = 0; c < NVOIGT; c++) m[VOIGT_ROW[c]][VOIGT_COL[c]] = m[VOIGT_COL[c]][VOIGT_ROW[c]] = v[c];
-}
+  // full 3x3 from Voigt components
+  inline void voigt_to_matrix(const double *v, double m[3][3])
+  {
+    for (int c = 0; c < NVOIGT; c++)
+      m[VOIGT_ROW[c]][VOIGT_COL[c]] = m[VOIGT_COL[c]][VOIGT_ROW[c]] = v[c];
+  }
 
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS

@@ -42,12 +42,11 @@ void EqualValues::resolve(LAMMPS *lmp, const std::string &what)
     if (name[k].empty()) continue;
     index[k] = lmp->input->variable->find(name[k].c_str());
     if (index[k] < 0)
-      lmp->error->all(FLERR, Error::NOLASTLINE, "Variable {} for {} does not exist", name[k],
-                      what);
+      lmp->error->all(FLERR, Error::NOLASTLINE, "Variable {} for {} does not exist", name[k], what);
     if (!lmp->input->variable->equalstyle(index[k]))
       lmp->error->all(FLERR, Error::NOLASTLINE,
-                      "Variable {} for {} must be equal-style (one value for every atom)",
-                      name[k], what);
+                      "Variable {} for {} must be equal-style (one value for every atom)", name[k],
+                      what);
   }
 }
 

@@ -21,28 +21,28 @@
 namespace LAMMPS_NS {
 namespace SPHElastic {
 
-/* ----------------------------------------------------------------------
+  /* ----------------------------------------------------------------------
    up to three numbers of a fix keyword (a load, a displacement), each a
    constant or v_name of an equal-style variable that is evaluated when
    the fix applies it (ramps)
 ------------------------------------------------------------------------- */
 
-class EqualValues {
- public:
-  double value[3] = {0.0, 0.0, 0.0};
+  class EqualValues {
+   public:
+    double value[3] = {0.0, 0.0, 0.0};
 
-  // component k from an input word: a number or v_name
-  void set(int k, const char *word, LAMMPS *lmp);
-  bool is_variable(int k) const { return !name[k].empty(); }
-  // look the variables up (at init); 'what' names the fix keyword in errors
-  void resolve(LAMMPS *lmp, const std::string &what);
-  // refresh the values of the variables
-  void evaluate(LAMMPS *lmp);
+    // component k from an input word: a number or v_name
+    void set(int k, const char *word, LAMMPS *lmp);
+    bool is_variable(int k) const { return !name[k].empty(); }
+    // look the variables up (at init); 'what' names the fix keyword in errors
+    void resolve(LAMMPS *lmp, const std::string &what);
+    // refresh the values of the variables
+    void evaluate(LAMMPS *lmp);
 
- private:
-  std::string name[3];
-  int index[3] = {-1, -1, -1};
-};
+   private:
+    std::string name[3];
+    int index[3] = {-1, -1, -1};
+  };
 
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS

@@ -1,0 +1,21 @@
+"""The C++ sources follow LAMMPS's conventions that a tool can check: its own
+.clang-format (which also sorts the includes and keeps lines within 100
+columns), as scripts/format applies it."""
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_sources_are_clang_formatted_with_lammps_style():
+    proc = subprocess.run([str(ROOT / "scripts" / "format"), "--check"], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, f"run scripts/format:\n{proc.stderr[-3000:]}"
+
+
+def test_no_line_longer_than_100_columns():
+    long = [f"{path.name}:{n}" for path in sorted((ROOT / "src" / "USER-ELASTIC-SPH").glob("*.[ch]*"))
+            for n, line in enumerate(path.read_text().splitlines(), 1) if len(line) > 100]
+    assert not long, long
