@@ -218,7 +218,7 @@ struct MinSPHNewton::Solver {
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), solver(new Solver), pair(nullptr), dim(3), nfree(0), factor(AUTO),
-    nshift(0), nassembly(0), nreused(0), indefinite(false), nroundoff(0), roundoff_fnorm(0.0)
+    nshift(0), nassembly(0), nreused(0), nroundoff(0), roundoff_fnorm(0.0), indefinite(false)
 {
 }
 
