@@ -56,6 +56,22 @@ def error_line(output: str) -> str:
     return found.group(1) if found else ""
 
 
+def end_loaded(fx, fy, then=""):
+    """Commands for the block held at its first column and loaded by (fx, fy)
+    per atom on its last (group right), the load in the energy; then `then`."""
+    return (HELD_FIRST_COLUMN + f"fix load right addforce {fx} {fy} 0\n"
+            "fix_modify load energy yes\n" + then)
+
+
+HELD_FIRST_COLUMN = """
+region left block INF 1 INF INF INF INF units lattice
+region right block 11 INF INF INF INF INF units lattice
+group left region left
+group right region right
+fix hold left setforce 0 0 0
+"""
+
+
 # ---------------------------------------------------------------- class 2: hangs
 
 @pytest.mark.parametrize("pair,integrator,dtfac,message", [
@@ -90,13 +106,6 @@ def test_stable_step_is_printed_and_a_safe_step_runs_quietly(tmp_path):
 # --------------------------------------------- class 3: inversion in minimisation
 
 COMPRESSED = """
-region left block INF 1 INF INF INF INF units lattice
-region right block 11 INF INF INF INF INF units lattice
-group left region left
-group right region right
-fix hold left setforce 0 0 0
-fix push right addforce {force} 0 0
-fix_modify push energy yes
 thermo_modify norm no
 min_style {style}
 minimize 0 1e-9 2000 20000
@@ -109,7 +118,7 @@ def test_minimisation_ending_inverted_is_an_error(tmp_path):
     no equilibrium that is not inverted; CG used to converge to the inverted
     body without a word."""
     force = -0.5 * 1.0e9 * DX * T          # P = -0.5 E on the end column
-    script = block_script(nu=0.0, extra=COMPRESSED.format(force=force, style="cg"))
+    script = block_script(nu=0.0, extra=end_loaded(force, 0, COMPRESSED.format(style="cg")))
     rc, out = run_lmp(script, tmp_path, timeout=120)
     assert rc != 0 and "RESULT done" not in out
     err = error_line(out)
@@ -122,7 +131,7 @@ def test_newton_does_not_step_into_inversion(tmp_path):
     same load it stops short of inversion and says why, and that the state
     is not an equilibrium."""
     force = -0.5 * 1.0e9 * DX * T
-    script = block_script(nu=0.0, extra=COMPRESSED.format(force=force, style="sph/newton"))
+    script = block_script(nu=0.0, extra=end_loaded(force, 0, COMPRESSED.format(style="sph/newton")))
     rc, out = run_lmp(script, tmp_path, timeout=120)
     assert rc == 0, error_line(out)
     assert "every step along the Newton direction inverts particles" in out
@@ -131,7 +140,7 @@ def test_newton_does_not_step_into_inversion(tmp_path):
 
 def test_moderate_compression_minimises_without_complaint(tmp_path):
     force = -0.01 * 1.0e9 * DX * T         # below Euler buckling, 0.023 E here
-    script = block_script(nu=0.0, extra=COMPRESSED.format(force=force, style="sph/newton"))
+    script = block_script(nu=0.0, extra=end_loaded(force, 0, COMPRESSED.format(style="sph/newton")))
     rc, out = run_lmp(script, tmp_path, timeout=120)
     assert rc == 0, error_line(out)
     assert "RESULT done" in out and "WARNING" not in out
@@ -145,18 +154,8 @@ def test_newton_accepts_loads_of_any_size(tmp_path):
     load the problem is the same, so the displacement must be too."""
     extension = []
     for force in (1.0, 1.0e5, 1.0e9, 1.0e13):
-        extra = f"""
-region left block INF 1 INF INF INF INF units lattice
-region right block 11 INF INF INF INF INF units lattice
-group left region left
-group right region right
-fix hold left setforce 0 0 0
-fix pull right addforce {force} 0 0
-fix_modify pull energy yes
-min_style sph/newton
-minimize 0 0 20 200
-print "RESULT extension $(xcm(right,x) - 0.0115:%.17g)"
-"""
+        extra = end_loaded(force, 0, "min_style sph/newton\nminimize 0 0 20 200\n"
+                           'print "RESULT extension $(xcm(right,x) - 0.0115:%.17g)"\n')
         E = force / (DX * T) * 1.0e3        # a strain of about 1e-3
         rc, out = run_lmp(block_script(E=E, nu=0.0, extra=extra), tmp_path)
         assert rc == 0, error_line(out)
@@ -169,16 +168,7 @@ print "RESULT extension $(xcm(right,x) - 0.0115:%.17g)"
 # ------------------------------------------------ class 5: unconverged minimisation
 
 def test_minimisation_stopped_by_its_limit_says_it_is_not_an_equilibrium(tmp_path):
-    extra = """
-region left block INF 1 INF INF INF INF units lattice
-region right block 11 INF INF INF INF INF units lattice
-group left region left
-group right region right
-fix hold left setforce 0 0 0
-fix pull right addforce 0 -1.0 0
-fix_modify pull energy yes
-minimize 0 1e-12 5 10
-"""
+    extra = end_loaded(0, -1.0, "minimize 0 1e-12 5 10\n")
     rc, out = run_lmp(block_script(extra=extra), tmp_path)
     assert rc == 0, error_line(out)
     warning = re.search(r"WARNING: Minimize stopped on '(max iterations|max force evaluations)' "
@@ -339,16 +329,7 @@ def test_3d_body_one_layer_thick_is_named():
 
 
 def test_atoms_leaving_a_fixed_box_in_minimisation_are_named(tmp_path):
-    extra = """
-region left block INF 1 INF INF INF INF units lattice
-region right block 11 INF INF INF INF INF units lattice
-group left region left
-group right region right
-fix hold left setforce 0 0 0
-fix pull right addforce 2000.0 0 0
-fix_modify pull energy yes
-minimize 0 1e-9 200 2000
-"""
+    extra = end_loaded(2000.0, 0, "minimize 0 1e-9 200 2000\n")
     rc, out = run_lmp(block_script(boundary="f f p", extra=extra), tmp_path)
     assert rc != 0
     assert "left the box through a fixed boundary ('f')" in error_line(out)
