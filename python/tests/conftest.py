@@ -11,7 +11,8 @@ def make_lammps():
 
 
 def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra_pair="",
-          rotation="fix rot all sph/rotation", thickness=1.0e-3, periodic=False):
+          rotation="fix rot all sph/rotation", thickness=1.0e-3, periodic=False, law="",
+          types=1):
     """A block of n[0] x n[1] (x n[2]) particles on a square/cubic lattice."""
     bnd = "p p p" if periodic else ("s s p" if dim == 2 else "s s s")
     lmp.commands_string(f"""
@@ -21,13 +22,13 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
         atom_style sph/elastic
         lattice {'sq' if dim == 2 else 'sc'} {dx} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
         region box block 0 {n[0]} 0 {n[1]} {'-0.5 0.5' if dim == 2 else f'0 {n[2]}'}
-        create_box 1 box
+        create_box {types} box
         create_atoms 1 box
         set group all volume {dx ** dim * (thickness if dim == 2 else 1.0)}
         set group all mass {rho * dx ** dim * (thickness if dim == 2 else 1.0)}
         set group all mol 1
         pair_style sph/icb {1.2 * dx} {extra_pair}
-        pair_coeff * * {E} {nu}
+        pair_coeff * * {E} {nu} {law}
         {rotation}
         neighbor {0.5 * dx} bin
         compute out all sph/elastic/atom stress strain rotation

@@ -22,14 +22,18 @@ def rotation_matrix(dim, angle):
 
 
 def svk_cauchy(F, E, nu, dim, plane):
+    """Cauchy stress and Green strain of the 3d St. Venant-Kirchhoff law at F;
+    in plane stress the out-of-plane stretch is solved from S_zz = 0 (not
+    the condensed lambda* of the code), and it changes J and E_zz."""
     mu = E / (2 * (1 + nu))
     lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    F = np.array(F, dtype=float)
     if dim == 2 and plane == "stress":
-        lam = 2 * lam * mu / (lam + 2 * mu)
+        G2 = 0.5 * (F.T @ F - np.eye(3))
+        e_zz = -lam * (G2[0, 0] + G2[1, 1]) / (lam + 2 * mu)   # S_zz = 0
+        F[2, 2] = math.sqrt(1 + 2 * e_zz)
     G = 0.5 * (F.T @ F - np.eye(3))
     S = lam * np.trace(G) * np.eye(3) + 2 * mu * G
-    if dim == 2 and plane == "stress":
-        S[2, 2] = 0.0
     return F @ S @ F.T / np.linalg.det(F), G
 
 

@@ -306,7 +306,9 @@ def stretch_between_mirrors(delta, nu, slip, n=(16, 7), solver="newton"):
 
 
 def uniaxial_cauchy(stretch, nu):
-    """SVK (plane stress lambda*) under uniaxial stress: sigma_xx."""
+    """SVK (plane stress lambda*) under uniaxial stress: sigma_xx.  The
+    body thins as it narrows (E_zz = E_yy, from S_zz = S_yy = 0 of the 3d
+    law), and the Cauchy stress divides by the current volume."""
     mu = E / (2 * (1 + nu))
     lam = E * nu / ((1 + nu) * (1 - 2 * nu))
     lam = 2 * lam * mu / (lam + 2 * mu)
@@ -314,7 +316,7 @@ def uniaxial_cauchy(stretch, nu):
     E22 = -lam / (lam + 2 * mu) * E11
     S11 = lam * (E11 + E22) + 2 * mu * E11
     lat = np.sqrt(1 + 2 * E22)
-    return stretch * stretch * S11 / (stretch * lat)
+    return stretch * stretch * S11 / (stretch * lat * lat)
 
 
 @pytest.mark.parametrize("nu, slip", [(0.0, False), (0.3, True), (0.0, True)])

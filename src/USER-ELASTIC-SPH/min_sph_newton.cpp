@@ -429,6 +429,19 @@ void MinSPHNewton::check_rigid_modes(const std::vector<int> &status_all)
     }
   }
   MPI_Allreduce(normal.data(), normal_all.data(), nmodes * nmodes * nb, MPI_DOUBLE, MPI_SUM, world);
+  // a body bonded to its own periodic images cannot turn in a plane that
+  // contains a periodic direction (its images do not turn with it); a body
+  // clear of the periodic boundaries could, but calling a held mode free
+  // would refuse a sound problem, so such rotations count as held
+  const int *periodic = domain->periodicity;
+  for (int w = 0; w < nmodes - dim; w++) {
+    const int axis = (dim == 2) ? 2 : w;    // the rotation axis
+    bool held = false;
+    for (int a = 0; a < dim; a++)
+      if (a != axis && periodic[a]) held = true;
+    if (!held) continue;
+    for (int b = 0; b < nb; b++) normal_all[nmodes * nmodes * b + (dim + w) * (nmodes + 1)] += 1.0;
+  }
 
   for (int b = 0; b < nb; b++) {
     if (centroid[4 * b + 3] == 0.0) continue;
@@ -841,7 +854,8 @@ int MinSPHNewton::line_search(double fdoth)
     // turns particles inside out is shortened like one that gains energy
     tagint inverted_id;
     double inverted_det;
-    if (pair->count_inverted(inverted_id, inverted_det) > 0) {
+    int inverted_type;
+    if (pair->count_inverted(inverted_id, inverted_det, inverted_type) > 0) {
       ninverted_trials++;
       alpha *= 0.5;
       continue;

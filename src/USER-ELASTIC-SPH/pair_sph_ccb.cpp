@@ -52,8 +52,7 @@ static constexpr double ETA2 = 0.01;
 /* ---------------------------------------------------------------------- */
 
 PairSPHCCB::PairSPHCCB(LAMMPS *lmp) :
-    PairSPHElastic(lmp), dtau(nullptr), pwave(nullptr), bulk_eff(nullptr), sigma_rho2(nullptr),
-    artstress(nullptr), list(nullptr)
+    PairSPHElastic(lmp), dtau(nullptr), sigma_rho2(nullptr), artstress(nullptr), list(nullptr)
 {
   set_style_defaults();
   dev_trace = 1.0 / 3.0;
@@ -82,8 +81,6 @@ PairSPHCCB::~PairSPHCCB()
   memory->destroy(dtau);
   memory->destroy(sigma_rho2);
   memory->destroy(artstress);
-  memory->destroy(pwave);
-  memory->destroy(bulk_eff);
 }
 
 /* ----------------------------------------------------------------------
@@ -143,6 +140,12 @@ void PairSPHCCB::init_style()
                "Pair style sph/ccb in 2d needs the keyword 'thickness t': the out-of-plane "
                "thickness that the particle volumes and masses include");
   kernel_measure = (dim == 2) ? 1.0 / thickness : 1.0;
+  check_laws();
+  // plane strain and 3d: p = K (rho/rho0 - 1) with the 3d bulk modulus and a
+  // 3d deviator.  Plane stress: the in-plane law sigma = lambda* tr(eps) I +
+  // 2 mu eps splits into a 2d bulk modulus lambda* + mu and a 2d deviator.
+  moduli.assign(atom->ntypes + 1, SPHElastic::LinearModuli());
+  for (int t = 1; t <= atom->ntypes; t++) moduli[t] = materials[t]->linear_moduli(kinematics);
   dev_trace = (dim == 2 && plane == PLANE_STRESS) ? 0.5 : 1.0 / 3.0;
   w_dp = (art_eps > 0.0) ? kernel.value(art_dp) : 0.0;
   if (art_eps > 0.0 && !(w_dp > 0.0))
@@ -168,25 +171,20 @@ void PairSPHCCB::init_list(int /*id*/, NeighList *ptr)
 }
 
 /* ----------------------------------------------------------------------
-   per-type moduli of the current-configuration model.  Plane strain and
-   3d: p = K (rho/rho0 - 1) with the 3d bulk modulus and a 3d deviator.
-   Plane stress: the in-plane law sigma = lambda* tr(eps) I + 2 mu eps
-   splits into a 2d bulk modulus lambda* + mu and a 2d deviator.
+   the current-configuration model integrates a hypoelastic (Jaumann-rate)
+   law from Hooke's moduli: St. Venant-Kirchhoff's E and nu.  A hyperelastic
+   law of another name would be silently replaced by it, so it is refused
 ------------------------------------------------------------------------- */
 
-double PairSPHCCB::init_one(int i, int j)
+void PairSPHCCB::check_laws() const
 {
-  const double cut = PairSPHElastic::init_one(i, j);
-  if (!pwave) {
-    memory->create(pwave, atom->ntypes + 1, "pair:pwave");
-    memory->create(bulk_eff, atom->ntypes + 1, "pair:bulk_eff");
-  }
-  const bool plane_stress = (domain->dimension == 2 && plane == PLANE_STRESS);
-  for (int t : {i, j}) {
-    pwave[t] = lame_lambda[t] + 2.0 * lame_mu[t];
-    bulk_eff[t] = plane_stress ? lame_lambda[t] + lame_mu[t] : bulk[t];
-  }
-  return cut;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (strcmp(materials[t]->name(), "svk") != 0)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Pair style sph/ccb integrates a hypoelastic Jaumann-rate law from E and nu "
+                 "(pair_coeff I I E nu [svk]); type {} asks for the {} law, which needs the "
+                 "total-Lagrangian pair style sph/icb",
+                 t, materials[t]->name());
 }
 
 /* ----------------------------------------------------------------------
@@ -254,7 +252,7 @@ void PairSPHCCB::grow_work()
 double PairSPHCCB::pressure(int i) const
 {
   const double rho0 = atom->rmass[i] / atom->vfrac[i];
-  return bulk_eff[atom->type[i]] * (atom->rho[i] / rho0 - 1.0);
+  return moduli[atom->type[i]].bulk * (atom->rho[i] / rho0 - 1.0);
 }
 
 /* ----------------------------------------------------------------------
@@ -332,7 +330,7 @@ void PairSPHCCB::rate_pass(int i, double back)
     for (int b = 0; b < 3; b++) L[a][b] *= kernel_measure;
   atom->drho[i] = kernel_measure * drho;
 
-  const double G = lame_mu[atom->type[i]];
+  const double G = moduli[atom->type[i]].mu;
   double tau[3][3];
   SPHElastic::voigt_to_matrix(atom->smd_stress[i], tau);
   const double trD = L[0][0] + L[1][1] + L[2][2];
@@ -386,7 +384,7 @@ double PairSPHCCB::stress_output(int i)
 
   const int t = atom->type[i];
   const double volume = atom->rmass[i] / atom->rho[i];
-  return volume * (tautau / (4.0 * lame_mu[t]) + p * p / (2.0 * bulk_eff[t]));
+  return volume * (tautau / (4.0 * moduli[t].mu) + p * p / (2.0 * moduli[t].bulk));
 }
 
 /* ----------------------------------------------------------------------
@@ -409,7 +407,7 @@ void PairSPHCCB::force_pass(int i)
   const int jnum = list->numneigh[i];
   const double cutsq_kernel = kernel.support() * kernel.support();
   const bool viscous = (visc_alpha > 0.0 || visc_beta > 0.0);
-  const double ci = std::sqrt(pwave[type[i]] * vfrac[i] / rmass[i]);
+  const double ci = std::sqrt(moduli[type[i]].pwave * vfrac[i] / rmass[i]);
   const double *si = sigma_rho2[i];
   const double *ai = artstress[i];
 
@@ -430,7 +428,7 @@ void PairSPHCCB::force_pass(int i)
           (v[i][2] - v[j][2]) * del[2];
       if (vdotx < 0.0) {
         const double mu = h * vdotx / (rsq + ETA2 * h * h);
-        const double cj = std::sqrt(pwave[type[j]] * vfrac[j] / rmass[j]);
+        const double cj = std::sqrt(moduli[type[j]].pwave * vfrac[j] / rmass[j]);
         pi_ij =
             (-visc_alpha * 0.5 * (ci + cj) * mu + visc_beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
       }

@@ -39,7 +39,6 @@ class PairSPHCCB : public PairSPHElastic {
   void compute(int, int) override;
   void init_style() override;
   void init_list(int, class NeighList *) override;
-  double init_one(int, int) override;
   void write_restart_settings(FILE *) override;
   void read_restart_settings(FILE *) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -54,8 +53,9 @@ class PairSPHCCB : public PairSPHElastic {
   double visc_alpha, visc_beta;     // Monaghan artificial viscosity a, b (0 = off)
   double art_eps, art_n, art_dp;    // Gray artificial stress eps, exponent n, initial spacing
   double w_dp;                      // W(art_dp), the denominator of the kernel ratio
-  double *pwave;            // per type, P-wave modulus (lambda + 2 mu, lambda* in plane stress)
-  double *bulk_eff;         // per type, bulk modulus of the equation of state
+  // per type, Hooke's moduli of the law for the kinematics: P-wave modulus,
+  // shear modulus of the stress rate and bulk modulus of the equation of state
+  std::vector<SPHElastic::LinearModuli> moduli;
   double dev_trace;         // 1/3 (3d, plane strain) or 1/2 (plane stress) in dev(.)
   double kernel_measure;    // 1/thickness in 2d, 1 in 3d: m/rho is a volume, W' per area
   double **sigma_rho2;      // sigma/rho^2 of owned and ghost atoms (3x3 row-major)
@@ -71,6 +71,7 @@ class PairSPHCCB : public PairSPHElastic {
   // measured on a vibrating block (h = 1.2 dx, sinc5): unstable from 1.8 h/c
   double stable_fraction() const override { return 1.0; }
   void grow_work();
+  void check_laws() const;
   void stress_terms(int i);
   void rate_pass(int i, double back);
   double stress_output(int i);

@@ -61,18 +61,11 @@ static bool unit_scales(const char *style, double &pascal, double &kg_per_m3)
   return false;
 }
 
-// 3d Lame constants of Young's modulus e and Poisson's ratio nu
-static void lame_constants(double e, double nu, double &lambda, double &mu)
-{
-  mu = e / (2.0 * (1.0 + nu));
-  lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-}
-
 /* ---------------------------------------------------------------------- */
 
 PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
-    Pair(lmp), cauchy(nullptr), green(nullptr), youngs(nullptr), poisson(nullptr),
-    lame_lambda(nullptr), lame_mu(nullptr), bulk(nullptr), partners(nullptr)
+    Pair(lmp), cauchy(nullptr), green(nullptr), youngs(nullptr), poisson(nullptr), bulk(nullptr),
+    partners(nullptr)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -83,6 +76,7 @@ PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
   h = 0.0;
   plane = PLANE_STRAIN;
   plane_given = 0;
+  kinematics = SPHElastic::Kinematics::SOLID;
   gradient_order = 1;
   thickness = 0.0;
   dt_unit = 0.0;
@@ -106,8 +100,6 @@ PairSPHElastic::~PairSPHElastic()
     memory->destroy(cutsq);
     memory->destroy(youngs);
     memory->destroy(poisson);
-    memory->destroy(lame_lambda);
-    memory->destroy(lame_mu);
     memory->destroy(bulk);
   }
 }
@@ -124,10 +116,10 @@ void PairSPHElastic::allocate()
   memory->create(cutsq, n, n, "pair:cutsq");
   memory->create(youngs, n, "pair:youngs");
   memory->create(poisson, n, "pair:poisson");
-  memory->create(lame_lambda, n, "pair:lame_lambda");
-  memory->create(lame_mu, n, "pair:lame_mu");
   memory->create(bulk, n, "pair:bulk");
-  for (int i = 0; i < n; i++) youngs[i] = poisson[i] = lame_lambda[i] = lame_mu[i] = bulk[i] = 0.0;
+  for (int i = 0; i < n; i++) youngs[i] = poisson[i] = bulk[i] = 0.0;
+  materials.clear();
+  materials.resize(n);
 }
 
 /* ----------------------------------------------------------------------
@@ -201,14 +193,16 @@ void PairSPHElastic::settings(int narg, char **arg)
 }
 
 /* ----------------------------------------------------------------------
-   pair_coeff I I E nu : per-type St. Venant-Kirchhoff material.  Particles
-   of different types interact; each carries its own material.
+   pair_coeff I I E nu [law] : per-type material, St. Venant-Kirchhoff
+   (svk) unless another registered law is named.  Particles of different
+   types interact; each carries its own material.
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::coeff(int narg, char **arg)
 {
-  if (narg != 4)
-    error->all(FLERR, "Incorrect number of args for pair_coeff {}: expected I J E nu, got {} args",
+  if (narg != 4 && narg != 5)
+    error->all(FLERR,
+               "Incorrect number of args for pair_coeff {}: expected I J E nu [law], got {} args",
                style_name(), narg);
   if (!allocated) allocate();
 
@@ -223,11 +217,15 @@ void PairSPHElastic::coeff(int narg, char **arg)
 
   const double e = utils::numeric(FLERR, arg[2], false, lmp);
   const double nu = utils::numeric(FLERR, arg[3], false, lmp);
+  const std::string law = (narg == 5) ? arg[4] : "svk";
   if (e <= 0.0)
     error->all(FLERR, 2, "Pair_coeff {} Young's modulus E must be > 0, got {}", style_name(), e);
   if (nu <= -1.0 || nu >= 0.5)
     error->all(FLERR, 3, "Pair_coeff {} Poisson's ratio nu must satisfy -1 < nu < 0.5, got {}",
                style_name(), nu);
+  if (!SPHElastic::create_material(law, e, nu))
+    error->all(FLERR, 4, "Unknown pair_coeff {} material law {}: use one of {}", style_name(), law,
+               SPHElastic::material_names());
   if (nu > NU_LOCKING && comm->me == 0)
     error->warning(FLERR,
                    "Pair_coeff {} Poisson's ratio {} is close to 0.5: a displacement-only scheme "
@@ -239,9 +237,7 @@ void PairSPHElastic::coeff(int narg, char **arg)
   for (int i = ilo; i <= ihi; i++) {
     for (int j = MAX(jlo, i); j <= jhi; j++) {
       if (i != j) continue;
-      youngs[i] = e;
-      poisson[i] = nu;
-      setflag[i][i] = 1;
+      set_material(i, law, e, nu);
       count++;
     }
   }
@@ -250,24 +246,33 @@ void PairSPHElastic::coeff(int narg, char **arg)
 
 /* ---------------------------------------------------------------------- */
 
-double PairSPHElastic::init_one(int i, int j)
+void PairSPHElastic::set_material(int t, const std::string &law, double e, double nu)
 {
-  if (!setflag[i][i] || !setflag[j][j])
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu",
-               style_name(), setflag[i][i] ? j : i, setflag[i][i] ? j : i, setflag[i][i] ? j : i);
+  materials[t] = SPHElastic::create_material(law, e, nu);
+  youngs[t] = e;
+  poisson[t] = nu;
+  bulk[t] = materials[t]->bulk_modulus();
+  setflag[t][t] = 1;
+}
 
-  for (int t : {i, j}) {
-    double lambda, mu;
-    lame_constants(youngs[t], poisson[t], lambda, mu);
-    lame_mu[t] = mu;
-    // plane stress: S_zz = 0 condenses lambda to lambda* = 2 lambda mu/(lambda + 2 mu)
-    lame_lambda[t] = (domain->dimension == 2 && plane == PLANE_STRESS)
-        ? 2.0 * lambda * mu / (lambda + 2.0 * mu)
-        : lambda;
-    bulk[t] = lambda + 2.0 * mu / 3.0;
-  }
+/* ---------------------------------------------------------------------- */
+
+double PairSPHElastic::init_one(int /*i*/, int /*j*/)
+{
   return kernel.support();
+}
+
+/* ----------------------------------------------------------------------
+   every atom type needs its material
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::check_coefficients()
+{
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!allocated || !setflag[t][t])
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu",
+                 style_name(), t, t, t);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -283,6 +288,12 @@ void PairSPHElastic::init_style()
                style_name());
   // settings() may have run before the dimension was final
   kernel = SPHElastic::Kernel(kernel.type, h, domain->dimension);
+  if (domain->dimension == 3)
+    kinematics = SPHElastic::Kinematics::SOLID;
+  else
+    kinematics = (plane == PLANE_STRESS) ? SPHElastic::Kinematics::PLANE_STRESS
+                                         : SPHElastic::Kinematics::PLANE_STRAIN;
+  check_coefficients();
   check_units();
   check_atoms();
   check_material();
@@ -451,8 +462,9 @@ void PairSPHElastic::check_atoms()
 }
 
 /* ----------------------------------------------------------------------
-   largest longitudinal wave speed c = sqrt((lambda + 2 mu)/rho0) over all
-   particles; the stable time step is dt <= C h / c with C of order 0.1-0.3
+   largest longitudinal wave speed c = sqrt((lambda + 2 mu)/rho0) of the
+   materials at rest over all particles; the stable time step is
+   dt <= C h / c with C of order 0.1-0.3
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::compute_stable_dt()
@@ -461,11 +473,8 @@ void PairSPHElastic::compute_stable_dt()
   const double *rmass = atom->rmass;
   const int *type = atom->type;
   double cmax = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    double lambda, mu;
-    lame_constants(youngs[type[i]], poisson[type[i]], lambda, mu);
-    cmax = MAX(cmax, std::sqrt((lambda + 2.0 * mu) * vfrac[i] / rmass[i]));
-  }
+  for (int i = 0; i < atom->nlocal; i++)
+    cmax = MAX(cmax, std::sqrt(materials[type[i]]->pwave_modulus() * vfrac[i] / rmass[i]));
   double all;
   MPI_Allreduce(&cmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   dt_unit = (all > 0.0) ? h / all : 0.0;
@@ -491,8 +500,11 @@ void PairSPHElastic::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
   for (int i = 1; i <= atom->ntypes; i++) {
-    fwrite(&setflag[i][i], sizeof(int), 1, fp);
-    if (setflag[i][i]) {
+    // 0: unset; else 1 + the law's registered index (files of versions
+    // without laws wrote setflag = 1, i.e. svk)
+    int code = setflag[i][i] ? 1 + SPHElastic::material_index(materials[i]->name()) : 0;
+    fwrite(&code, sizeof(int), 1, fp);
+    if (code) {
       fwrite(&youngs[i], sizeof(double), 1, fp);
       fwrite(&poisson[i], sizeof(double), 1, fp);
     }
@@ -507,16 +519,24 @@ void PairSPHElastic::read_restart(FILE *fp)
   allocate();
   const int me = comm->me;
   for (int i = 1; i <= atom->ntypes; i++) {
-    if (me == 0) utils::sfread(FLERR, &setflag[i][i], sizeof(int), 1, fp, nullptr, error);
-    MPI_Bcast(&setflag[i][i], 1, MPI_INT, 0, world);
-    if (setflag[i][i]) {
-      if (me == 0) {
-        utils::sfread(FLERR, &youngs[i], sizeof(double), 1, fp, nullptr, error);
-        utils::sfread(FLERR, &poisson[i], sizeof(double), 1, fp, nullptr, error);
-      }
-      MPI_Bcast(&youngs[i], 1, MPI_DOUBLE, 0, world);
-      MPI_Bcast(&poisson[i], 1, MPI_DOUBLE, 0, world);
+    int code = 0;
+    if (me == 0) utils::sfread(FLERR, &code, sizeof(int), 1, fp, nullptr, error);
+    MPI_Bcast(&code, 1, MPI_INT, 0, world);
+    if (!code) continue;
+    double e = 0.0, nu = 0.0;
+    if (me == 0) {
+      utils::sfread(FLERR, &e, sizeof(double), 1, fp, nullptr, error);
+      utils::sfread(FLERR, &nu, sizeof(double), 1, fp, nullptr, error);
     }
+    MPI_Bcast(&e, 1, MPI_DOUBLE, 0, world);
+    MPI_Bcast(&nu, 1, MPI_DOUBLE, 0, world);
+    const std::string law = SPHElastic::material_name(code - 1);
+    if (law.empty())
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Pair style {}: the restart file's material of type {} is law number {}, "
+                 "unknown to this build (it knows {})",
+                 style_name(), i, code - 1, SPHElastic::material_names());
+    set_material(i, law, e, nu);
   }
 }
 
@@ -556,14 +576,18 @@ void PairSPHElastic::read_restart_settings(FILE *fp)
 
 void PairSPHElastic::write_data(FILE *fp)
 {
-  for (int i = 1; i <= atom->ntypes; i++) fprintf(fp, "%d %g %g\n", i, youngs[i], poisson[i]);
+  for (int i = 1; i <= atom->ntypes; i++)
+    fprintf(fp, "%d %.15g %.15g %s\n", i, youngs[i], poisson[i],
+            setflag[i][i] ? materials[i]->name() : "svk");
 }
 
 /* ---------------------------------------------------------------------- */
 
 void PairSPHElastic::write_data_all(FILE *fp)
 {
-  for (int i = 1; i <= atom->ntypes; i++) fprintf(fp, "%d %d %g %g\n", i, i, youngs[i], poisson[i]);
+  for (int i = 1; i <= atom->ntypes; i++)
+    fprintf(fp, "%d %d %.15g %.15g %s\n", i, i, youngs[i], poisson[i],
+            setflag[i][i] ? materials[i]->name() : "svk");
 }
 
 /* ---------------------------------------------------------------------- */

@@ -17,16 +17,19 @@
 #include "atom.h"
 #include "pair.h"
 #include "sph_elastic_kernel.h"
+#include "sph_material.h"
 
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
    Common part of the elastic SPH pair styles (not a style itself):
-   smoothing length and kernel, 2d plane mode, per-type St. Venant-Kirchhoff
-   material (E, nu) from pair_coeff, per-particle stress and strain output,
-   stable time-step estimate.
+   smoothing length and kernel, 2d plane mode, the per-type material law
+   from pair_coeff (E, nu and the law's name), per-particle stress and
+   strain output, stable time-step estimate.
 ------------------------------------------------------------------------- */
 
 class PairSPHElastic : public Pair {
@@ -56,6 +59,9 @@ class PairSPHElastic : public Pair {
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
   virtual bool has_green() const { return true; }    // is the green array filled
   class FixSPHPartners *get_partners() const { return partners; }
+  // the law of atom type t, and how a 2d run stands for a 3d body
+  const SPHElastic::Material &material(int t) const { return *materials[t]; }
+  SPHElastic::Kinematics get_kinematics() const { return kinematics; }
   // local indices of owned atom i's reference partners as the last force
   // computation found them, or nullptr if there are none that are current
   virtual const int *partner_indices(int) const { return nullptr; }
@@ -67,13 +73,14 @@ class PairSPHElastic : public Pair {
   SPHElastic::Kernel kernel;
   int plane;
   int plane_given;
-  double thickness;                 // 2d out-of-plane thickness (0 = not given)
-  int gradient_order;               // 1: paper's linear correction, 2: exact for quadratic fields
-  double *youngs, *poisson;         // per type, from pair_coeff
-  double *lame_lambda, *lame_mu;    // per type, 2d plane stress uses lambda*
-  double *bulk;                     // per type, bulk modulus lambda + 2 mu/3 (3d lambda)
-  double dt_unit;                   // h / (largest wave speed): dt <= C * dt_unit
-  double reported_dt[2];            // dt_unit and timestep last reported in the log
+  double thickness;      // 2d out-of-plane thickness (0 = not given)
+  int gradient_order;    // 1: paper's linear correction, 2: exact for quadratic fields
+  SPHElastic::Kinematics kinematics;                               // from the dimension and plane
+  std::vector<std::unique_ptr<SPHElastic::Material>> materials;    // per type, from pair_coeff
+  double *youngs, *poisson;    // per type, E and nu of the law (for extract())
+  double *bulk;                // per type, 3d bulk modulus lambda + 2 mu/3
+  double dt_unit;              // h / (largest wave speed): dt <= C * dt_unit
+  double reported_dt[2];       // dt_unit and timestep last reported in the log
   int nmax_output;
   class FixSPHPartners *partners;
 
@@ -92,6 +99,8 @@ class PairSPHElastic : public Pair {
   // the stable estimate
   std::string instability_advice() const;
   void check_units();
+  void check_coefficients();
+  void set_material(int t, const std::string &law, double e, double nu);
   void check_material();
   void report_stable_dt();
   void grow_output();

@@ -69,6 +69,7 @@ PairSPHICB::PairSPHICB(LAMMPS *lmp) :
   ninverted = 0;
   inverted_id = 0;
   inverted_det = 1.0;
+  inverted_type = 1;
   internal_fsq = 0.0;
   comm_forward = 9;
 }
@@ -207,7 +208,7 @@ void PairSPHICB::compute(int eflag, int vflag)
 
 /* ---------------------------------------------------------------------- */
 
-bigint PairSPHICB::count_inverted(tagint &id, double &det) const
+bigint PairSPHICB::count_inverted(tagint &id, double &det, int &type) const
 {
   bigint mine = ninverted, all;
   MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
@@ -218,32 +219,33 @@ bigint PairSPHICB::count_inverted(tagint &id, double &det) const
   MPI_Allreduce(&rank_mine, &rank_all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
   id = inverted_id;
   det = inverted_det;
+  type = inverted_type;
   MPI_Bcast(&id, 1, MPI_LMP_TAGINT, rank_all.rank, world);
   MPI_Bcast(&det, 1, MPI_DOUBLE, rank_all.rank, world);
+  MPI_Bcast(&type, 1, MPI_INT, rank_all.rank, world);
   return all;
 }
 
 /* ----------------------------------------------------------------------
-   a minimisation must end in a sound equilibrium.  St. Venant-Kirchhoff's
-   energy stays finite through det F = 0, so a minimiser can converge to a
-   body turned inside out (under a compressive load beyond SVK's limit
-   point there is no other minimum): that is an error.  A minimisation that
-   stopped on its iteration or evaluation limit, or whose line search gave
-   up far from equilibrium, gets a warning with its residual.
+   a minimisation must end in a sound equilibrium.  A law whose energy
+   stays finite through det F = 0 (St. Venant-Kirchhoff) lets a minimiser
+   converge to a body turned inside out: that is an error, explained by
+   the law.  A minimisation that stopped on its iteration or evaluation
+   limit, or whose line search gave up far from equilibrium, gets a
+   warning with its residual.
 ------------------------------------------------------------------------- */
 
 void PairSPHICB::check_minimized_state()
 {
   tagint id;
   double det;
-  const bigint n = count_inverted(id, det);
+  int type;
+  const bigint n = count_inverted(id, det, type);
   if (n > 0)
     error->all(FLERR, Error::NOLASTLINE,
                "Minimize ended with {} inverted particles, e.g. atom {} (det F = {:.6g}): the body "
-               "turned inside out. St. Venant-Kirchhoff's energy stays finite through det F = 0 "
-               "and has no equilibrium in compression beyond a stretch of 1/sqrt(3), so a "
-               "minimiser can converge there; reduce the load, or apply it in steps",
-               n, id, det);
+               "turned inside out. {}",
+               n, id, det, materials[type]->inversion_advice());
   report_minimize_residual();
 }
 
@@ -340,18 +342,26 @@ void PairSPHICB::refresh_partner_indices()
 void PairSPHICB::report_missing_partner(int i, int k) const
 {
   const tagint id = partners->partner[i][k];
+  // LAMMPS wraps a position into a periodic box by one period only: an atom
+  // that moved farther in one step lies outside and is dropped
+  const bool in_plane_periodic = domain->xperiodic || domain->yperiodic ||
+      (domain->dimension == 3 && domain->zperiodic);
+  const std::string periodic = in_plane_periodic
+      ? "; or, in a periodic box, it moved more than one box length in one step (a "
+        "diverging minimisation, or a min_modify dmax larger than the particle spacing)"
+      : "";
   if (comm->nprocs == 1)
     error->one(FLERR, Error::NOLASTLINE,
                "Pair style sph/icb: reference partner {} of atom {} is gone at step {}: it left "
                "the box through a fixed boundary ('f'), where LAMMPS drops atoms; use "
-               "shrink-wrapped boundaries ('s' or 'm') or a larger box",
-               id, atom->tag[i], update->ntimestep);
+               "shrink-wrapped boundaries ('s' or 'm') or a larger box{}",
+               id, atom->tag[i], update->ntimestep, periodic);
   error->one(FLERR, Error::NOLASTLINE,
              "Pair style sph/icb: reference partner {} of atom {} is beyond the ghost cut-off at "
              "step {}: increase it with 'comm_modify cutoff <d>' (d >= 2h times the largest "
              "stretch, plus the neighbor skin); or the atom left the box through a fixed "
-             "boundary ('f'): then use 's' or 'm', or a larger box",
-             id, atom->tag[i], update->ntimestep);
+             "boundary ('f'): then use 's' or 'm', or a larger box{}",
+             id, atom->tag[i], update->ntimestep, periodic);
 }
 
 /* ----------------------------------------------------------------------
@@ -403,6 +413,7 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
       if (ninverted++ == 0) {
         inverted_id = atom->tag[i];
         inverted_det = detF;
+        inverted_type = atom->type[i];
       }
     } else {
       error->one(FLERR, Error::NOLASTLINE,
@@ -412,24 +423,11 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
     }
   }
 
-  // Green strain E = (F^T F - I)/2 and 2nd Piola-Kirchhoff S = lambda tr(E) I + 2 mu E
-  const int t = atom->type[i];
-  const double lambda = lame_lambda[t], mu = lame_mu[t];
-  double E[3][3], S[3][3];
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++)
-      E[a][b] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
-  const double trE = E[0][0] + E[1][1] + E[2][2];
-  double EE = 0.0;
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) {
-      S[a][b] = 2.0 * mu * E[a][b] + (a == b ? lambda * trE : 0.0);
-      EE += E[a][b] * E[a][b];
-    }
-  // plane stress: the condensed lambda* already accounts for S_zz = 0
-  if (domain->dimension == 2 && plane == PLANE_STRESS) S[2][2] = 0.0;
-  if (mirror)
-    for (auto &row : S) row[0] = row[1] = row[2] = 0.0;
+  // strain energy density and 2nd Piola-Kirchhoff stress of the atom's law
+  // (in plane stress also the out-of-plane stretch)
+  double S[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  double psi = 0.0, stretch_zz = 1.0;
+  if (!mirror) psi = materials[atom->type[i]]->stress(F, kinematics, S, stretch_zz);
 
   double R[3][3];
   if (rotfix) rotfix->rotation(i, F, R);
@@ -442,20 +440,22 @@ template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const do
       defgrad[i][3 * a + b] = F[a][b];
     }
 
-  // output: Cauchy stress (1/J) F S F^T and Green strain
+  // output: Cauchy stress (1/J) F S F^T and Green strain (F^T F - I)/2.  In
+  // plane stress J and E_zz take the out-of-plane stretch (none exists when
+  // St. Venant-Kirchhoff is stretched beyond its range: then J is in-plane)
   double FS[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++)
       FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
+  const double J = (stretch_zz > 0.0) ? detF * stretch_zz : detF;
   for (int v = 0; v < NSYMM; v++) {
     const int a = SPHElastic::VOIGT_ROW[v], b = SPHElastic::VOIGT_COL[v];
-    cauchy[i][v] = (FS[a][0] * F[b][0] + FS[a][1] * F[b][1] + FS[a][2] * F[b][2]) / detF;
-    green[i][v] = E[a][b];
+    cauchy[i][v] = (FS[a][0] * F[b][0] + FS[a][1] * F[b][1] + FS[a][2] * F[b][2]) / J;
+    green[i][v] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
   }
+  if (stretch_zz != 1.0) green[i][2] = 0.5 * (stretch_zz * stretch_zz - 1.0);
 
-  if (mirror) return 0.0;
-  const double psi = 0.5 * lambda * trE * trE + mu * EE;
-  return vi * psi;
+  return mirror ? 0.0 : vi * psi;
 }
 
 /* ----------------------------------------------------------------------
@@ -553,8 +553,7 @@ void PairSPHICB::hessian(const HessianSink &add) const
 /* ----------------------------------------------------------------------
    V_i psi(F_i) with F_i = sum_k x_k (x) G_ik, G_ij = g_ij, G_ii = -sum_j g_ij:
      d2/dx_k[a] dx_l[b] = V_i sum_JL A_aJbL G_ik[J] G_il[L]
-   with the St. Venant-Kirchhoff tangent A = dP/dF of P = F S:
-     A_aJbL = delta_ab S_JL + lambda F_aJ F_bL + mu delta_JL (F F^T)_ab + mu F_aL F_bJ
+   with the tangent A = dP/dF of the atom's law
 ------------------------------------------------------------------------- */
 
 void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) const
@@ -563,28 +562,11 @@ void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) co
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
   const tagint *tag = atom->tag;
-  const int t = atom->type[i];
-  const double lambda = lame_lambda[t], mu = lame_mu[t];
-
-  double F[3][3], E[3][3], S[3][3], FFt[3][3];
+  double F[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) {
-      E[a][b] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
-      FFt[a][b] = F[a][0] * F[b][0] + F[a][1] * F[b][1] + F[a][2] * F[b][2];
-    }
-  const double trE = E[0][0] + E[1][1] + E[2][2];
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) S[a][b] = 2.0 * mu * E[a][b] + (a == b ? lambda * trE : 0.0);
-
-  double A[3][3][3][3];
-  for (int a = 0; a < dim; a++)
-    for (int J = 0; J < dim; J++)
-      for (int b = 0; b < dim; b++)
-        for (int L = 0; L < dim; L++)
-          A[a][J][b][L] = (a == b ? S[J][L] : 0.0) + lambda * F[a][J] * F[b][L] +
-              (J == L ? mu * FFt[a][b] : 0.0) + mu * F[a][L] * F[b][J];
+  SPHElastic::Tangent A;
+  materials[atom->type[i]]->tangent(F, kinematics, A);
 
   // the stencil of F_i: atom i itself (slot 0) and its partners
   std::vector<double> G(3 * (n + 1), 0.0);

@@ -52,8 +52,8 @@ class PairSPHICB : public PairSPHElastic {
   void hessian(const HessianSink &) const;
   const int *partner_indices(int) const override;
   // number of inverted (det F <= 0) atoms at the last force computation,
-  // over all ranks, with the ID and det F of one of them; collective
-  bigint count_inverted(tagint &id, double &det) const;
+  // over all ranks, with the ID, det F and type of one of them; collective
+  bigint count_inverted(tagint &id, double &det, int &type) const;
   void check_minimized_state() override;
 
  protected:
@@ -73,6 +73,7 @@ class PairSPHICB : public PairSPHElastic {
   int ninverted;          // inverted atoms (det F <= 0, mirror atoms aside)
   tagint inverted_id;     // one of them
   double inverted_det;    // its det F
+  int inverted_type;      // and type
   double internal_fsq;    // sum of |f_i|^2 of the pair forces
 
   int parse_keyword(int, int, char **) override;

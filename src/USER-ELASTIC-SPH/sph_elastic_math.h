@@ -30,6 +30,20 @@ namespace SPHElastic {
         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   }
 
+  // inverse of a 3x3 matrix of determinant det (non-zero)
+  inline void inverse3(const double m[3][3], double det, double inv[3][3])
+  {
+    inv[0][0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
+    inv[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) / det;
+    inv[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) / det;
+    inv[1][0] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) / det;
+    inv[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
+    inv[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) / det;
+    inv[2][0] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) / det;
+    inv[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) / det;
+    inv[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
+  }
+
   // full 3x3 from Voigt components
   inline void voigt_to_matrix(const double *v, double m[3][3])
   {
