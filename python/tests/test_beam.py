@@ -103,6 +103,7 @@ def test_coarse_beam_deflection_against_elastica():
     assert 0.0 < res.error_dh < 0.60      # dh ~ dv^2: about twice the dv error
 
 
+@pytest.mark.slow
 def test_minimisation_and_damped_dynamics_agree():
     common = dict(load=-75.0, dx=0.004, stress="pk1")
     static = run_beam(BeamCase(route="min", **common))
@@ -113,6 +114,7 @@ def test_minimisation_and_damped_dynamics_agree():
 
 @pytest.mark.parametrize("stress,gradient", [("corotated", "linear"), ("pk1", "linear"),
                                              ("pk1", "quadratic")])
+@pytest.mark.slow
 def test_mpi_ranks_agree(stress, gradient):
     """Dynamics under load on 1, 2 and 4 ranks: same tip to 1e-10 relative."""
     variables = {"dx": 0.004, "route": "nve", "nsteps": 3000, "Fy": -250, "stress": stress,

@@ -18,6 +18,7 @@ def run_cli(*args):
                           timeout=600, env=clean_environment())
 
 
+@pytest.mark.slow
 def test_validate_prints_a_row_per_load_and_variant(tmp_path):
     out = tmp_path / "rows.json"
     proc = run_cli("validate", "--dx", "0.004", "--loads", "-10", "--tables", "1", "--variants",
@@ -46,6 +47,7 @@ def test_observed_order_of_convergence():
     assert order([4e-2, 2e-2], [0.004, 0.002])[1] == pytest.approx(1.0)
 
 
+@pytest.mark.slow
 def test_quick_truss_tables_compare_with_the_exact_model(tmp_path):
     """Tables 3 and 4 at coarse spacings through the CLI: the ICB truss is
     within a few percent of the exact Green-strain answer, and the error
@@ -67,6 +69,7 @@ def test_validate_refuses_an_unknown_variant():
     assert "unknown variant 'cubic/glued'" in proc.stderr
 
 
+@pytest.mark.slow
 def test_figures_writes_beam_snapshots(tmp_path):
     proc = run_cli("figures", "--dx", "0.005", "--schemes", "icb", "--snap", "0.002",
                    "--out", str(tmp_path))
@@ -77,6 +80,7 @@ def test_figures_writes_beam_snapshots(tmp_path):
     assert (tmp_path / "beam_icb_-250_5mm.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_bench_rows_for_each_style():
     proc = run_cli("bench", "--dx", "0.005", "--np", "1", "--steps", "50", "--styles",
                    "icb,ccb,tlsph")

@@ -204,6 +204,7 @@ def mirror_error(x, mol):
     return d.min(axis=1).max()
 
 
+@pytest.mark.slow
 def test_icb_rings_conserve_energy_and_momentum_and_stay_mirror_symmetric(tmp_path):
     """Coarse rings (dx = 5 mm, 2 layers) into contact, stress pk1 (whose
     forces are the exact energy gradient; the paper's corotated measure is
@@ -228,6 +229,7 @@ def test_icb_rings_conserve_energy_and_momentum_and_stay_mirror_symmetric(tmp_pa
 
 
 @pytest.mark.parametrize("scheme", ["icb", "ccbwat"])
+@pytest.mark.slow
 def test_ring_runs_agree_on_1_2_4_ranks(tmp_path, scheme):
     runs = [run_mpi(RINGS, {**RING, "scheme": scheme, "outdir": str(tmp_path), "tag": f"n{n}"},
                     n).variables for n in (1, 2, 4)]
@@ -292,6 +294,7 @@ def test_respa_with_one_inner_step_follows_verlet():
     assert np.abs(runs[1][0] - runs[0][0]).max() < 1e-12
 
 
+@pytest.mark.slow
 def test_rings_driver_reports_the_collision(tmp_path):
     """esph.rings through a whole collision at dx = 5 mm.  The rings move
     rigidly until the nearest outer particles come closer than dx.  Those

@@ -146,6 +146,7 @@ def test_2d_only_keyword_in_3d(command, message):
     lmp.close()
 
 
+@pytest.mark.slow
 def test_absurd_load_inverts_a_particle_and_stops_the_run():
     """The beam under a billion newtons: the first steps crush the tip
     column, and the run stops with an error instead of going on with NaN."""

@@ -149,6 +149,7 @@ def test_beam_small_load_against_reissner_shear_beam():
     assert face[1] / dv_el - 1.0 == pytest.approx(0.006, abs=2e-4)
 
 
+@pytest.mark.slow
 def test_beam_linear_limit_against_linear_q9_code():
     """Linear limit (load 1e-6 of -10 N, scaled) of the mean uy over the line
     x = L - 1 mm, against studies/beam_error/fe_continuum.py (an independent
@@ -247,6 +248,7 @@ def test_prescribed_homogeneous_deformation_with_shear():
 
 # -- (d) recomputation and 3D consistency -------------------------------------------
 
+@pytest.mark.slow
 def test_coarse_recomputation_reproduces_a_stored_beam_entry():
     """beam, nu = 0.3, plane stress, -75 N, dx = 2 mm on the family's two
     coarsest levels: the first reproduces the table's own value for it, and
@@ -268,6 +270,7 @@ def test_coarse_recomputation_reproduces_a_stored_beam_entry():
         assert abs(c1[i] - stored[c]) <= stored["err_" + c] + own
 
 
+@pytest.mark.slow
 def test_half_z_model_equals_full_model():
     pr = fe.PROBLEMS["beam3d"]
     full = fe.solve_case(pr, [-200.0], 0.3, "3d", fe.make_mesh(pr, 0, half_z=False),

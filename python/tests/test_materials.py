@@ -300,6 +300,7 @@ def test_bad_law_is_a_clear_error(command, words):
     lmp.close()
 
 
+@pytest.mark.slow
 def test_ccb_refuses_a_hyperelastic_law(tmp_path):
     from conftest import run_lmp
     script = f"""

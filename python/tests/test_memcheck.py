@@ -128,6 +128,7 @@ def valgrind_cmd(nprocs: int) -> list[str]:
 @pytest.mark.parametrize("name,nprocs", [(k, 1) for k in INPUTS] + [("icb_2d_contact", 2),
                                                                   ("icb_mirror_newton", 2),
                                                                   ("icb_boundary_newton", 2)])
+@pytest.mark.slow
 def test_no_memory_errors(tmp_path, name, nprocs):
     script = tmp_path / f"in.{name}"
     script.write_text(INPUTS[name])

@@ -165,6 +165,7 @@ print "RESULT pe $(pe:%.17g)"
 
 
 @pytest.mark.parametrize("stress", ["corotated", "pk1"])
+@pytest.mark.slow
 def test_mpi_ranks_agree_with_mirror_and_source_on_different_ranks(tmp_path, stress):
     """Rank boundaries at x = -1.5, 0 and 1.5 mm put mirror atoms and their
     sources on different ranks: positions go out by the fix's forward
@@ -217,6 +218,7 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
     assert np.abs(continued - uninterrupted).max() == 0.0
 
 
+@pytest.mark.slow
 def test_mirror_clamp_removes_the_clamp_error_of_the_coarse_beam():
     """dx = 4 mm, Fy = -75 N, gradient quadratic.  The fixed clamp columns
     count their own strain energy and make the beam clamped about one dx

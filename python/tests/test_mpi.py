@@ -55,6 +55,7 @@ print "RESULT ke $(ke:%.17g)"
 
 
 @pytest.mark.parametrize("dim,scheme", [(2, "icb"), (3, "icb"), (2, "ccbwat")])
+@pytest.mark.slow
 def test_periodic_runs_agree_on_1_2_4_ranks(tmp_path, dim, scheme):
     path = tmp_path / "in.periodic"
     path.write_text(script(dim, scheme))
@@ -98,6 +99,7 @@ print "RESULT ke $(ke:%.17g)"
 
 
 @pytest.mark.parametrize("hfac", [1.5, 2.0])
+@pytest.mark.slow
 def test_migrating_3d_body_with_long_partner_lists(tmp_path, hfac):
     """A 3d block crosses the rank boundaries (x from 0.003 to 0.019 m in a
     0.03 m box) with h = 1.5 and 2 dx: up to 250 partners per atom, whose

@@ -93,6 +93,7 @@ print(before, len(os.listdir("/proc/self/task")))
 
 
 @pytest.mark.skipif(not cholmod_built(), reason="LAMMPS built without CHOLMOD")
+@pytest.mark.slow
 def test_cholmod_starts_no_threads_unless_omp_num_threads_asks():
     """CHOLMOD's supernodal factorisation asks for OpenMP threads of its own
     (4 in Debian's build); with one MPI rank per core they spin against the
@@ -115,6 +116,7 @@ def test_cholmod_starts_no_threads_unless_omp_num_threads_asks():
     assert after > before
 
 
+@pytest.mark.slow
 def test_newton_on_ranks_agrees_with_serial():
     """The Hessian is gathered to rank 0 by atom ID; rank boundaries cut the
     beam and the mirror/source pairs."""
@@ -143,6 +145,7 @@ def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, sad
     assert out.variables["tip_dh"] == pytest.approx(exact, rel=0.01)
 
 
+@pytest.mark.slow
 def test_hourglass_control_converges_with_a_warning(tmp_path):
     newton, log = newton_run(tmp_path, {"grad": "quadratic", "clamp": "mirror", "hg": 0.05,
                                         "solver": "newton", "thermo_every": 100})

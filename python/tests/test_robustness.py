@@ -78,6 +78,7 @@ fix hold left setforce 0 0 0
     ("sph/ccb", "fix i all sph/ccb/nve", 3.0, "is inverted (density"),
     ("sph/icb", "fix i all nve", 3.0, "is inverted (det F"),
 ])
+@pytest.mark.slow
 def test_blow_up_stops_with_the_stable_step(tmp_path, pair, integrator, dtfac, message):
     """A time step 3 h/c: sph/ccb used to blow up, grow the shrink-wrapped box
     to tens of metres and stall in binning for minutes.  Now the run stops
@@ -113,6 +114,7 @@ print "RESULT done"
 """
 
 
+@pytest.mark.slow
 def test_minimisation_ending_inverted_is_an_error(tmp_path):
     """Beyond St. Venant-Kirchhoff's compressive limit (|P| = 0.19 E) there is
     no equilibrium that is not inverted; CG used to converge to the inverted
@@ -148,6 +150,7 @@ def test_moderate_compression_minimises_without_complaint(tmp_path):
 
 # ------------------------------------------ class 4: Newton's probe is scale-free
 
+@pytest.mark.slow
 def test_newton_accepts_loads_of_any_size(tmp_path):
     """Steel in SI: addforce of 1e5 N per atom and more used to be refused as
     'cannot model how the fixes change the force'.  With E scaled with the
@@ -191,6 +194,7 @@ def test_minimisation_stopped_by_its_limit_says_it_is_not_an_equilibrium(tmp_pat
     ("pair_style sph/ccb 0.0012 thickness 0.001\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve",
      "Pair style sph/ccb cannot continue from a state built by pair style sph/icb"),
 ])
+@pytest.mark.slow
 def test_changes_after_the_partners_are_built_are_refused(tmp_path, commands, message):
     rc, out = run_lmp(block_script(extra=f"run 0\n{commands}\nrun 0\n"), tmp_path)
     assert rc != 0
@@ -221,6 +225,7 @@ def test_volumes_set_after_the_partners_are_built_are_honoured():
     assert np.abs(after - before).max() <= 1e-12 * np.abs(before).max()
 
 
+@pytest.mark.slow
 def test_restart_into_ccb_is_refused(tmp_path):
     rc, out = run_lmp(block_script(extra="run 0\nwrite_restart icb.restart\n"), tmp_path)
     assert rc == 0, error_line(out)
@@ -328,6 +333,7 @@ def test_3d_body_one_layer_thick_is_named():
     lmp.close()
 
 
+@pytest.mark.slow
 def test_atoms_leaving_a_fixed_box_in_minimisation_are_named(tmp_path):
     extra = end_loaded(2000.0, 0, "minimize 0 1e-9 200 2000\n")
     rc, out = run_lmp(block_script(boundary="f f p", extra=extra), tmp_path)
@@ -337,6 +343,7 @@ def test_atoms_leaving_a_fixed_box_in_minimisation_are_named(tmp_path):
 
 
 @pytest.mark.parametrize("load", ["", "fix pull all addforce 0 -1.0 0\nfix_modify pull energy yes\n"])
+@pytest.mark.slow
 def test_free_body_handed_to_newton_is_named(tmp_path, load):
     extra = load + "min_style sph/newton\nminimize 0 1e-9 20 200\n"
     rc, out = run_lmp(block_script(extra=extra), tmp_path)
@@ -351,6 +358,7 @@ def test_free_body_handed_to_newton_is_named(tmp_path, load):
     ("region left block INF 1 INF INF INF INF units lattice\ngroup left region left\n"
      "fix hold left setforce 0 NULL 0\n", "translate along (0, 1)"),
 ])
+@pytest.mark.slow
 def test_partly_held_body_names_its_free_motion(tmp_path, hold, motion):
     rc, out = run_lmp(block_script(extra=hold + "min_style sph/newton\nminimize 0 1e-9 20 200\n"),
                       tmp_path)
@@ -397,6 +405,7 @@ fix clamp mirror sph/mirror x 0.0
 """
 
 
+@pytest.mark.slow
 def test_restart_without_the_mirror_fix_is_refused(tmp_path):
     """Fixes are not in restart files: without fix sph/mirror defined again the
     mirror atoms would silently become free particles of the body."""

@@ -19,6 +19,7 @@ def test_icb_row_has_counts_error_and_throughput():
     assert "in.beam" in row.command and "-var dx 0.005" in row.command
 
 
+@pytest.mark.slow
 def test_tlsph_beam_is_the_same_beam():
     """The same suddenly applied load for the same time: the early response
     is set by mass, load and stiffness, so both codes' tips move alike."""
@@ -33,6 +34,7 @@ def test_tlsph_beam_is_the_same_beam():
     assert tls["tip_dv"] == pytest.approx(icb["tip_dv"], rel=0.1)
 
 
+@pytest.mark.slow
 def test_damped_route_reports_that_it_reached_rest():
     """20 damping times at 2 omega1: the force left is a tiny share of the
     load, and the tip is where minimisation puts it."""
@@ -42,6 +44,7 @@ def test_damped_route_reports_that_it_reached_rest():
     assert damped.value == pytest.approx(static.value, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_statics_rows_against_the_converged_answer():
     """Newton reaches the converged answer in a handful of iterations, CG in
     thousands; both within 1e-6 of it (their force tolerance is 1e-7 of the

@@ -401,6 +401,7 @@ def test_bad_input_is_a_clear_error(command, words):
     lmp.close()
 
 
+@pytest.mark.slow
 def test_3d_face_traction_statics_agree_on_1_2_4_ranks():
     """examples/beam3d (exact volumes, mirror clamp, face traction, Newton)
     on a small cantilever: the same tip on 1, 2 and 4 ranks."""

@@ -70,6 +70,7 @@ def test_failure_criterion_fires_for_ccb_tension_but_not_icb():
 
 
 @pytest.mark.parametrize("scheme", ["ccb", "ccbwat"])
+@pytest.mark.slow
 def test_ccb_mpi_ranks_agree(scheme):
     """Undamped compression from a sudden load: the bar shortens by up to
     twice the static 6 mm, so particles cross the processor boundaries (and
