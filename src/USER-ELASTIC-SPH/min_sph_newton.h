@@ -27,13 +27,17 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 
 namespace LAMMPS_NS {
 
+namespace SPHElastic {
+  class LinearSolver;
+  class NewtonDofs;
+}    // namespace SPHElastic
+
 /* ----------------------------------------------------------------------
-   Newton's method for pair_style sph/icb stress pk1: the Hessian of the
-   pair energy is assembled by atom ID, reduced by the constraints the
-   force-modifying fixes impose (found by probing them), factorised on
-   rank 0 (CHOLMOD's supernodal LL^T if built with it; sparse LDL^T,
-   shifted until positive definite, where that fails), and the Newton
-   step is shortened by backtracking on the energy.
+   Newton's method for pair_style sph/icb stress pk1: each iteration
+   solves H step = f on the free coordinates (SPHElastic::NewtonDofs finds
+   them by probing the fixes; SPHElastic::FreeHessian gives H; a
+   SPHElastic::LinearSolver assembles and solves it) and shortens the step
+   by backtracking on the energy.
 ------------------------------------------------------------------------- */
 
 class MinSPHNewton : public MinLineSearch {
@@ -45,35 +49,17 @@ class MinSPHNewton : public MinLineSearch {
   int modify_param(int, char **) override;
 
  private:
-  struct Solver;    // Eigen matrix and factorisation, rank 0
-  std::unique_ptr<Solver> solver;
   class PairSPHICB *pair;
-  int dim;
-  bigint nfree;                // unconstrained degrees of freedom
-  std::vector<int> reduced;    // dof (tag-1)*dim+a -> free dof index, -1 if held
-  std::vector<signed char>
-      dofsign;                      // -1 for a mirror atom's odd dof (it moves against its source)
-  std::vector<char> tied;           // 1 for a mirror atom's dof (its source's is the free one)
-  std::vector<double> rhs, step;    // free-dof force and Newton step
-  int factor;                       // min_modify factor: AUTO, CHOLMOD or LDLT
-  int nshift;                       // diagonal shifts needed in the last factorisation
-  int nassembly, nreused;    // Hessians of this minimization, and those added into K's pattern
-  int nroundoff;             // line searches in a row that ended below round-off
-  double roundoff_fnorm;     // |f|^2 when that run began
-  bool indefinite;           // the last unshifted Hessian had negative pivots (rank 0)
+  std::unique_ptr<SPHElastic::NewtonDofs> dofs;
+  std::unique_ptr<SPHElastic::LinearSolver> solver;
+  int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT
+  std::vector<double> force_share, step;    // on the free coordinates
+  int nroundoff;                            // line searches in a row that ended below round-off
+  double roundoff_fnorm;                    // |f|^2 when that run began
 
-  int newton_loop(int);
   void check_style();
-  void find_constraints();
-  void check_rigid_modes(const std::vector<int> &status_all);
-  double probe_value(tagint, int) const;
-  void assemble_and_solve();
-  void collect_entries();
-  bool add_into_pattern();
-  template <typename Add> bool for_each_free_entry(Add &&) const;
-  void gather_and_build();
-  void solve_with_ldlt();
-  void scatter_step();
+  void start();
+  int newton_loop(int);
   int line_search(double fdoth);
 };
 

@@ -1,0 +1,59 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_SPH_LINEAR_SOLVER_H
+#define LMP_SPH_LINEAR_SOLVER_H
+
+#include "pointers.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+namespace SPHElastic {
+
+  class FreeHessian;
+
+  /* ----------------------------------------------------------------------
+     what min_style sph/newton asks of a linear solver: assemble the
+     Hessian on the free coordinates and solve K step = force for a step
+     that points downhill (force . step > 0), modifying K where it is not
+     positive definite.  Every call is collective over all ranks.
+  ------------------------------------------------------------------------- */
+
+  class LinearSolver : protected Pointers {
+   public:
+    explicit LinearSolver(class LAMMPS *lmp) : Pointers(lmp) {}
+    ~LinearSolver() override = default;
+
+    // for the log: which solver and how
+    virtual std::string name() const = 0;
+    // a new problem of nfree unknowns (the free coordinates were numbered
+    // afresh): forget the matrix, its pattern and its factorisation
+    virtual void reset(int nfree) = 0;
+    // K from the Hessian at the current positions
+    virtual void assemble(const FreeHessian &) = 0;
+    // the step from this rank's share of the force (length nfree, the
+    // shares summing to the force); step (length nfree) is the same on
+    // every rank afterwards
+    virtual void solve(const std::vector<double> &force_share, std::vector<double> &step) = 0;
+    // true if the last K solved had negative eigenvalues (before any
+    // modification): the iterate is near a saddle point, not a minimum
+    virtual bool indefinite() const = 0;
+    // a line for the log at the end of a minimization, or empty
+    virtual std::string summary() const { return {}; }
+  };
+}    // namespace SPHElastic
+}    // namespace LAMMPS_NS
+
+#endif
