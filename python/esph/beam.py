@@ -3,8 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from . import theory
-from .runner import BEAM, run_tip
+from .problems import BEAM, beam_exact
+from .runner import run_tip
 
 
 @dataclass
@@ -36,9 +36,8 @@ class BeamResult:
 
     @property
     def exact(self) -> tuple[float, float]:
-        """Elastica at the tip column's material point s = L - dx/2."""
-        beam = theory.Beam()
-        return theory.beam_tip(beam, self.case.load, s=beam.L - 0.5 * self.case.dx)
+        """Elastica at the tip column's material point."""
+        return beam_exact(self.case.load, self.case.dx)
 
     @property
     def error_dv(self) -> float:

@@ -68,6 +68,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .problems import tip_point
+
 TABLE = Path(__file__).resolve().parent / "data" / "fe_reference.json"
 REGENERATE = "python -m esph.fe --write"
 
@@ -536,9 +538,9 @@ class LinearSolver:
 # ----------------------------------------------------------------------------
 
 def column_points(problem: Problem, dx: float, x: float | None = None) -> np.ndarray:
-    """The particle code's tip column for spacing dx: x = L - dx/2 (or x),
-    y = (j + 1/2) dx, j < H/dx (and z = (k + 1/2) dx, k < W/dx in 3D)."""
-    x = problem.L - 0.5 * dx if x is None else x
+    """The particle code's tip column for spacing dx: x = tip_point (L - dx/2)
+    or x, y = (j + 1/2) dx, j < H/dx (and z = (k + 1/2) dx, k < W/dx in 3D)."""
+    x = tip_point(problem.L, dx) if x is None else x
     ny = int(round(problem.H / dx))
     if abs(ny * dx - problem.H) > 1e-9 * problem.H:
         raise ValueError(f"dx = {dx} does not divide H = {problem.H}")

@@ -3,15 +3,16 @@ the truss, survived or failed (with the time of failure), displacement and
 error against the exact answer of the model the scheme runs."""
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+from pathlib import Path
 
 from . import theory
-from .runner import BEAM, TRUSS, run_mpi
+from .problems import BEAM, TRUSS, beam_exact, truss_exact
+from .report import print_head, write_rows
+from .runner import RunError, run_mpi
 
 SCHEMES = ("ccb", "ccbwat", "icb")
 PAPER_NAME = {"ccb": "CCB", "ccbwat": "CCBWAT", "icb": "ICB"}
-_ERROR_RE = re.compile(r"^ERROR.*$", re.M)
 
 
 @dataclass
@@ -41,9 +42,8 @@ def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
     out = Outcome(scheme, load)
     try:
         res = run_mpi(script, {**variables, "scheme": scheme, "route": route, **stress}, nprocs)
-    except RuntimeError as err:      # a LAMMPS error: non-finite state, inverted particle
-        msg = _ERROR_RE.search(str(err))
-        out.failed, out.reason = True, msg.group(0) if msg else str(err)[-200:]
+    except RunError as err:      # a LAMMPS error: non-finite state, inverted particle
+        out.failed, out.reason = True, err.error
         return out
     v = res.variables
     out.dh, out.dv = v["tip_dh"], v["tip_dv"]
@@ -56,16 +56,14 @@ def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
 
 def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOADS,
                progress=print) -> list[Outcome]:
-    beam = theory.Beam()
     rows = []
     print(f"\nTable 1: beam (L = 0.2 m, H = 2 cm, E = 20 GPa, nu = 0, plane stress), dx = "
           f"{dx * 1e3:g} mm; tip dv in mm, error against the elastica at s = L - dx/2")
     head = f"{'Fy[N]':>6} {'exact':>8} | " + " | ".join(
         f"{PAPER_NAME[s]:>6} {'ours':>8} {'err':>6} {'paper':>7}" for s in SCHEMES)
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     for k, load in enumerate(loads):
-        exact = theory.beam_tip(beam, load, s=beam.L - 0.5 * dx)[1]
+        exact = beam_exact(load, dx)[1]
         cells = []
         for scheme in SCHEMES:
             progress(f"[esph] beam {scheme} Fy = {load:g} N ...")
@@ -84,7 +82,6 @@ def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOA
 def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_LOADS,
                 progress=print) -> list[Outcome]:
     truss = theory.Truss()
-    X = truss.L - 0.5 * dx
     model = {"icb": "pk1", "ccb": "hypo", "ccbwat": "hypo"}
     rows = []
     print(f"\nTable 3: truss (L = 0.2 m, H = 5 cm, E = 2 GPa, nu = 0, plane stress), dx = "
@@ -94,15 +91,14 @@ def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_L
     head = f"{'Fx[N]':>6} {'linear':>7} | " + " | ".join(
         f"{PAPER_NAME[s]:>6} {'ours':>8} {'exact':>8} {'err':>6} {'lateral':>8} {'paper':>7}"
         for s in SCHEMES)
-    print(head)
-    print("-" * len(head))
+    print_head(head)
     for k, load in enumerate(loads):
         cells = []
         for scheme in SCHEMES:
             progress(f"[esph] truss {scheme} Fx = {load:g} N ...")
             o = run_case(TRUSS, scheme, {"Fx": load, "dx": dx, "tdamp": tdamp}, nprocs)
             rows.append(o)
-            exact = truss.displacement(load, model[scheme], X)
+            exact = truss_exact(load, dx, model[scheme])
             paper = theory.PAPER_TRUSS[PAPER_NAME[scheme]][k]
             paper_txt = f"{paper:7.2f}" if paper is not None else f"{'broken':>7}"
             if o.failed:
@@ -111,4 +107,22 @@ def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_L
                 cells.append(f"{'':>6} {o.dh * 1e3:8.3f} {exact * 1e3:8.3f} "
                              f"{100 * (o.dh / exact - 1):5.1f}% {abs(o.dv) * 1e3:8.4f} {paper_txt}")
         print(f"{load:6.0f} {truss.linear(load) * 1e3:7.2f} | " + " | ".join(cells), flush=True)
+    return rows
+
+
+def failure_matrix(problem: str, dx: float, nprocs: int, tdamp: float, progress=print,
+                   json_path: Path | None = None) -> list[Outcome]:
+    """Tables 1 and/or 3 (problem beam, truss or both), rows optionally
+    written as JSON and CSV."""
+    print(f"Failure matrix: ICB by minimisation (stress pk1), CCB and CCBWAT by damped dynamics "
+          f"(fix viscous at 2 omega1 for {tdamp:g}/omega1) from a suddenly applied load; "
+          f"a run fails when initially adjacent particles are farther apart than 2h; "
+          f"{nprocs} MPI rank(s).")
+    rows = []
+    if problem in ("beam", "both"):
+        rows += beam_table(dx, nprocs, tdamp, progress=progress)
+    if problem in ("truss", "both"):
+        rows += truss_table(dx, nprocs, tdamp, progress=progress)
+    if json_path:
+        write_rows(Path(json_path), [asdict(r) for r in rows])
     return rows

@@ -8,8 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .figures import read_dump
-from .runner import RINGS, run_mpi, run_script
+from . import plots
+from .problems import RINGS
+from .report import print_head, write_rows
+from .runner import read_dump, run_mpi, run_script
 
 # columns of rings_<tag>.dat (fix ave/time in in.rings)
 COLUMNS = ["step", "v1", "v2", "estrain", "econtact", "etotal", "px", "py", "fcontact",
@@ -134,24 +136,53 @@ def mirror_error(rows: np.ndarray) -> float:
     return worst
 
 
-def plot_energies(result: RingsResult, png: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    s = load_series(Path(result.series_file))
+def energy_plot(result: RingsResult, png: Path) -> None:
+    """The energies of one collision against time, as a PNG."""
+    series = load_series(Path(result.series_file))
     dt = result.case.tend / max(result.steps, 1)
-    t = s["step"] * dt * 1e3
-    ke = s["etotal"] - s["estrain"] - s["econtact"]
-    fig, ax = plt.subplots(figsize=(6, 3.5))
-    for y, label in [(ke, "kinetic"), (s["estrain"], "strain"), (s["econtact"], "contact"),
-                     (s["etotal"], "total")]:
-        ax.plot(t, y, label=label)
-    ax.set_xlabel("t [ms]")
-    ax.set_ylabel("energy [J]")
-    ax.set_title(f"rings, {result.case.scheme}, {result.case.v:g} m/s, dx = "
-                 f"{result.case.dx * 1e3:g} mm")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    plots.plot_energies(series["step"] * dt * 1e3, series,
+                        f"rings, {result.case.scheme}, {result.case.v:g} m/s, dx = "
+                        f"{result.case.dx * 1e3:g} mm", png)
+
+
+def run_table(out: Path, schemes, speeds, dx: float, tend: float, stress: str, grad: str,
+              volumes: str, snap: float, nprocs: int, progress=print) -> list[RingsResult]:
+    """Each scheme at each speed: one table row per collision, its energy
+    plot and (if snap > 0) its snapshots, and the rows as JSON and CSV."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"Colliding rings (outer diameter 0.2 m, wall 1 cm, E = 20 GPa, nu = 0.3, plane "
+          f"stress, rho = 1000), dx = {dx * 1e3:g} mm, {tend * 1e3:g} ms, "
+          f"{nprocs} MPI rank(s); output in {out}")
+    print_head(f"{'scheme':>7} {'v':>4} {'atoms':>6} {'steps':>7} {'wall[s]':>8} {'rebound':>8} "
+               f"{'e':>5} {'contact[ms]':>15} {'F_max[N]':>9} {'overlap':>7} {'strain':>6} "
+               f"{'dE/E0':>9} {'|p|':>8} {'mirror/dx':>9} {'failed[ms]':>10}")
+    results = []
+    for scheme in schemes:
+        for speed in speeds:
+            progress(f"[esph] rings {scheme} {speed:g} m/s ...")
+            case = RingsCase(scheme=scheme, v=speed, dx=dx, tend=tend, stress=stress, grad=grad,
+                             volumes=volumes, snap=snap)
+            res = run_rings(case, out, nprocs=nprocs)
+            fail = "-" if res.t_fail != res.t_fail else f"{res.t_fail * 1e3:.3f}"
+            print(f"{scheme:>7} {speed:4g} {res.atoms:6d} {res.steps:7d} {res.wall:8.1f} "
+                  f"{res.rebound_speed:8.3f} {res.restitution:5.2f} "
+                  f"{res.contact_start * 1e3:7.3f}-{res.contact_end * 1e3:7.3f} "
+                  f"{res.max_contact_force:9.1f} {res.max_overlap:7.3f} "
+                  f"{res.max_strain_share:6.2f} {res.energy_error:9.2e} "
+                  f"{res.momentum_error:8.1e} {res.mirror_error:9.1e} {fail:>10}",
+                  flush=True)
+            results.append(res)
+            energy_plot(res, out / f"energy_{case.tag}.png")
+            dumps = sorted(out.glob(f"rings_{case.tag}.*.dump"))
+            if dumps:
+                plots.plot_snapshots([read_dump(p) for p in dumps],
+                                     out / f"snapshots_{case.tag}.png",
+                                     f"{scheme}, {speed:g} m/s: von Mises stress")
+    print("rebound = mean |vx| of the rings at the end; e = rebound/initial speed; contact = "
+          "first-last time in contact (nan: still in contact); strain = largest strain energy "
+          "/ initial kinetic energy; dE/E0 = largest total-energy error; |p| = largest total "
+          "momentum / sum m|v0|; mirror = largest distance of a ring-1 particle from the "
+          "mirror image of ring 2, over the snapshots")
+    write_rows(out / "rings.json", [r.row() for r in results])
+    return results

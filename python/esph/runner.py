@@ -14,7 +14,9 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .paths import EXAMPLES, lmp_binary
+import numpy as np
+
+from .paths import lmp_binary
 
 
 @dataclass
@@ -143,6 +145,20 @@ def run_mpirun(cmd: list[str], cwd: Path, timeout: float) -> Launch:
     return Launch(proc, wall, lost_log)
 
 
+class RunError(RuntimeError):
+    """A run that failed; `error` is LAMMPS's own ERROR line, if it printed one."""
+
+    def __init__(self, message: str, error: str):
+        super().__init__(message)
+        self.error = error
+
+
+def lammps_error(text: str) -> str:
+    """LAMMPS's first ERROR line in `text`, else its last 200 characters."""
+    found = _ERROR_RE.search(text)
+    return found.group(0) if found else text[-200:]
+
+
 def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None = None,
             timeout: float = 1800) -> RunResult:
     """Run `script` with `mpirun -np nprocs lmp`; values are taken from lines
@@ -155,8 +171,8 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
     if proc.returncode != 0:
         # LAMMPS's own ERROR line first: MPI's abort text after it can be long
         errors = "\n".join(_ERROR_RE.findall(out.log))
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{errors}\n"
-                           f"{out.log[-3000:]}")
+        raise RunError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{errors}\n"
+                       f"{out.log[-3000:]}", lammps_error(out.log))
     out.variables = {m.group(1): float(m.group(2)) for m in _PRINT_RE.finditer(proc.stdout)}
     loops = _LOOP_RE.findall(proc.stdout)
     if loops:   # LAMMPS's own timing of the last run or minimize, and of all of them
@@ -186,8 +202,10 @@ def run_tip(script: Path, variables: dict, nprocs: int = 1) -> TipResult:
     return TipResult(out.variables["tip_dh"], out.variables["tip_dv"], steps, natoms, out.wall)
 
 
-BEAM = EXAMPLES / "beam" / "in.beam"
-TRUSS = EXAMPLES / "truss" / "in.truss"
-BEAM_TLSPH = EXAMPLES / "beam" / "in.beam_tlsph"
-BEAM3D = EXAMPLES / "beam3d" / "in.beam3d"
-RINGS = EXAMPLES / "rings" / "in.rings"
+def read_dump(path: Path) -> tuple[float, np.ndarray]:
+    """(time, rows of id mol x y vonmises) of one snapshot the beam and rings
+    scripts dump when their variable snap is set."""
+    lines = Path(path).read_text().splitlines()
+    time = float(lines[lines.index("ITEM: TIME") + 1])
+    start = next(k for k, line in enumerate(lines) if line.startswith("ITEM: ATOMS")) + 1
+    return time, np.array([[float(v) for v in line.split()] for line in lines[start:]])

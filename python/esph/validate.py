@@ -9,28 +9,11 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from . import theory
-from .runner import BEAM, BEAM3D, TRUSS, TipResult, run_tip
-
-# each variant: its label and the example variables that make it
-VARIANTS = {
-    "linear/fixed": ("the paper's scheme: linear gradient correction, fixed clamp, cell volumes, "
-                     "load on the last column",
-                     {"grad": "linear", "clamp": "fixed", "volumes": "cells", "load": "column"}),
-    "quadratic/fixed": ("gradient exact for quadratic fields, fixed clamp, cell volumes, column load",
-                        {"grad": "quadratic", "clamp": "fixed", "volumes": "cells",
-                         "load": "column"}),
-    "quadratic/mirror": ("gradient exact for quadratic fields, mirror clamp, cell volumes, column "
-                         "load (the last release's recommendation)",
-                         {"grad": "quadratic", "clamp": "mirror", "volumes": "cells",
-                          "load": "column"}),
-    "linear/mirror": ("linear gradient correction, mirror clamp, cell volumes, column load",
-                      {"grad": "linear", "clamp": "mirror", "volumes": "cells", "load": "column"}),
-    "default": ("the defaults: quadratic gradient, mirror clamp, exact volumes "
-                "(set_sph_volumes), traction on the end face (fix sph/traction)",
-                {"grad": "quadratic", "clamp": "mirror", "volumes": "exact", "load": "traction"}),
-}
-VARIANT_LABELS = {name: label for name, (label, _) in VARIANTS.items()}
+from . import plots, theory
+from .problems import (BEAM, BEAM3D, TRUSS, VARIANT_LABELS, VARIANTS, beam_exact, continuum_dv,
+                       continuum_tip, truss_exact)
+from .report import order, print_head, write_rows
+from .runner import TipResult, run_tip
 
 QUICK = {"beam_conv_loads": (-250.0,), "beam_conv_dx": (0.005, 0.004, 0.002, 0.001),
          "truss_loads": theory.PAPER_TRUSS_LOADS,
@@ -92,31 +75,6 @@ class Runner:
                          **extra}
             self.cache[key] = run_tip(script, variables, self.nprocs)
         return self.cache[key]
-
-
-def print_head(head: str) -> None:
-    print(head)
-    print("-" * len(head))
-
-
-def beam_exact(load: float, dx: float) -> tuple[float, float]:
-    beam = theory.Beam()
-    return theory.beam_tip(beam, load, s=beam.L - 0.5 * dx)
-
-
-def truss_exact(load: float, dx: float, stress: str) -> float:
-    truss = theory.Truss()
-    return truss.displacement(load, stress, truss.L - 0.5 * dx)
-
-
-def order(errors: list[float], dxs: list[float]) -> list[float]:
-    """Observed order between successive resolutions, log(e1/e2)/log(dx1/dx2)."""
-    out = [float("nan")]
-    for k in range(1, len(errors)):
-        e1, e2 = abs(errors[k - 1]), abs(errors[k])
-        ok = e1 > 0 and e2 > 0
-        out.append(math.log(e1 / e2) / math.log(dxs[k - 1] / dxs[k]) if ok else float("nan"))
-    return out
 
 
 def table1(run: Runner, variant: str, dx: float = 0.002,
@@ -181,34 +139,6 @@ def table2(run: Runner, variant: str, loads, dxs) -> list[Row]:
         print(f"{dx * 1e3:6g} | " + " | ".join(cells), flush=True)
     print_against_continuum(rows, loads, dxs, run.stress, variant)
     return rows
-
-
-def continuum_dv(load: float, dx: float, stress: str, variant: str = "linear/fixed",
-                 nu: float = 0.0, plane: str = "stress") -> float:
-    """Tip dv of the continuum the particle model tends to as dx -> 0, at the
-    tip column's material points.  A load on the last column acts at
-    L - dx/2: Reissner's shear beam loaded there.  A face traction acts at
-    x = L: the finite-element solution of the 2D continuum (esph.fe), nan
-    if it is not tabulated."""
-    if VARIANTS[variant][1]["load"] == "column":
-        if nu != 0.0:
-            return math.nan
-        beam = theory.Beam()
-        return theory.shear_beam_tip(beam, load, a=beam.L - 0.5 * dx, model=stress)[1]
-    return fe_tip("beam", load, dx, nu, plane, stress)["dv"]
-
-
-def fe_tip(problem: str, load: float, dx: float, nu: float, plane: str = "stress",
-           stress: str = "pk1") -> dict:
-    """The FE continuum's tip column means, or nans where it has none."""
-    nan = {"dh": math.nan, "dv": math.nan, "dz": math.nan, "error_estimate": math.nan}
-    if stress != "pk1":
-        return nan    # the FE solves Green strain + St. Venant-Kirchhoff only
-    try:
-        from . import fe
-        return fe.tip(problem, load, dx, nu=nu, plane=plane)
-    except (ImportError, KeyError, FileNotFoundError):
-        return nan
 
 
 def print_against_continuum(rows: list[Row], loads, dxs, stress: str, variant: str) -> None:
@@ -315,7 +245,7 @@ def table5(run: Runner, full: bool, variant: str = "default") -> list[Row]:
             errs = []
             for dx in dxs:
                 tip = run.tip("beam", load, dx, variant, nu=nu)
-                ref = fe_tip("beam", load, dx, nu, "stress", run.stress)
+                ref = continuum_tip("beam", load, dx, nu, "stress", run.stress)
                 errs.append(tip.dv / ref["dv"] - 1)
                 rows.append(Row("5", "beam", variant, load, dx, tip.dh, tip.dv, ref["dv"],
                                 errs[-1], math.nan, tip.steps, tip.wall, note=f"nu {nu:g}",
@@ -327,7 +257,7 @@ def table5(run: Runner, full: bool, variant: str = "default") -> list[Row]:
     print_head(f"truss nu = {nu:g}, dx = 2 mm | {'dh[mm]':>9} {'FE':>9} {'err':>9} {'lateral':>9}")
     for load in theory.PAPER_TRUSS_LOADS:
         tip = run.tip("truss", load, 0.002, variant, nu=nu)
-        ref = fe_tip("truss", load, 0.002, nu, "stress", run.stress)
+        ref = continuum_tip("truss", load, 0.002, nu, "stress", run.stress)
         err = tip.dh / ref["dh"] - 1
         print(f"{load:25.0f} N | {tip.dh * 1e3:9.4f} {ref['dh'] * 1e3:9.4f} {100 * err:+8.4f}% "
               f"{abs(tip.dv) * 1e3:9.2e}", flush=True)
@@ -340,7 +270,7 @@ def table5(run: Runner, full: bool, variant: str = "default") -> list[Row]:
         geometry = SHORT if name == "beam3d_short" else {}
         for nu in (0.0, 0.3):
             tip = run.tip("beam3d", load, dx, variant, nu=nu, **geometry)
-            ref = fe_tip(name, load, dx, nu, "stress", run.stress)
+            ref = continuum_tip(name, load, dx, nu, "stress", run.stress)
             err = tip.dv / ref["dv"] - 1
             print(f"{name:>12} {load:6.0f} N | {nu:4g} {tip.natoms:6d} {tip.dv * 1e3:9.4f} "
                   f"{ref['dv'] * 1e3:9.4f} {100 * err:+8.4f}% {tip.wall:7.2f}", flush=True)
@@ -348,39 +278,6 @@ def table5(run: Runner, full: bool, variant: str = "default") -> list[Row]:
                             math.nan, tip.steps, tip.wall, note=f"nu {nu:g}",
                             continuum=ref["dv"], error_continuum=err))
     return rows
-
-
-def plot_convergence(rows: list[Row], png: Path) -> None:
-    """log-log |error| against dx for Tables 2 and 4, ours and the paper's."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for ax, table, title in [(axes[0], "2", "beam, tip dv"), (axes[1], "4", "truss, tip dh")]:
-        sel = [r for r in rows if r.table == table]
-        for key in sorted({(r.variant, r.load) for r in sel}):
-            pts = sorted((r.dx, abs(r.error)) for r in sel if (r.variant, r.load) == key)
-            line, = ax.loglog([p[0] * 1e3 for p in pts], [100 * p[1] for p in pts], "o-",
-                              label=f"{key[0]}, {key[1]:g} N")
-            cont = sorted((r.dx, abs(r.error_continuum)) for r in sel
-                          if (r.variant, r.load) == key and r.error_continuum == r.error_continuum)
-            if cont:
-                ax.loglog([p[0] * 1e3 for p in cont], [100 * p[1] for p in cont], "--",
-                          color=line.get_color(), label=f"{key[0]}, {key[1]:g} N, vs continuum")
-        for load in sorted({r.load for r in sel}):
-            paper = sorted({(r.dx, r.paper) for r in sel if r.load == load and r.paper > 0})
-            if paper:
-                ax.loglog([p[0] * 1e3 for p in paper], [p[1] for p in paper], "k:", marker="x",
-                          label=f"paper (against its theory), {load:g} N")
-        ax.set_xlabel("dx [mm]")
-        ax.set_ylabel("|error| [%]")
-        ax.set_title(title)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
 
 
 def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: float = 0.002,
@@ -404,5 +301,31 @@ def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: flo
     return rows
 
 
-def rows_as_dicts(rows: list[Row]) -> list[dict]:
-    return [asdict(r) for r in rows]
+def validate(out: Path, variants: list[str], full: bool, tables: str, dx: float, loads,
+             nprocs: int = 1, stress: str = "pk1", route: str = "min", solver: str = "newton",
+             hourglass: float = 0.0, json_path: Path | None = None, progress=print) -> list[Row]:
+    """The whole command: the tables, the failure matrix with --full, the
+    rows as JSON and CSV in `out` (and at json_path) and the convergence plot."""
+    unknown = [v for v in variants if v not in VARIANT_LABELS]
+    if unknown:
+        raise ValueError(f"unknown variant {unknown[0]!r}: choose from {', '.join(VARIANT_LABELS)}")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"{'Full' if full else 'Quick'} validation of pair_style sph/icb against the exact "
+          f"theory and Tran-Duc et al. (2023), {nprocs} MPI rank(s); tip = centroid of the last "
+          f"column, compared at the same material point.  Output in {out}.")
+    run = Runner(nprocs=nprocs, stress=stress, route=route, solver=solver, hourglass=hourglass,
+                 progress=progress)
+    rows = run_all(run, variants, full, tables, dx, loads)
+    data = [asdict(r) for r in rows]
+    if full and "m" in tables:
+        from . import matrix
+        data += [asdict(r) for r in matrix.beam_table(dx, nprocs, 10.0, progress=progress)]
+        data += [asdict(r) for r in matrix.truss_table(dx, nprocs, 10.0, progress=progress)]
+    write_rows(out / "validate.json", data)
+    if json_path:
+        write_rows(Path(json_path), data)
+    if any(r.table in "24" for r in rows):
+        plots.plot_convergence(rows, out / "convergence.png")
+        print(f"\nconvergence plot: {out / 'convergence.png'}")
+    return rows

@@ -7,7 +7,8 @@ import pytest
 
 from esph import theory
 from esph.beam import BeamCase, run_beam
-from esph.runner import BEAM, run_mpi
+from esph.problems import BEAM
+from esph.runner import run_mpi
 from conftest import block, by_id, make_lammps
 
 

@@ -40,7 +40,7 @@ def test_validate_prints_a_row_per_load_and_variant(tmp_path):
 
 
 def test_observed_order_of_convergence():
-    from esph.validate import order
+    from esph.report import order
     # errors falling as dx^2 and as dx give orders 2 and 1
     p = order([4e-2, 1e-2, 2.5e-3], [0.004, 0.002, 0.001])
     assert p[0] != p[0] and p[1:] == [pytest.approx(2.0), pytest.approx(2.0)]

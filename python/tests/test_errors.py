@@ -150,7 +150,8 @@ def test_2d_only_keyword_in_3d(command, message):
 def test_absurd_load_inverts_a_particle_and_stops_the_run():
     """The beam under a billion newtons: the first steps crush the tip
     column, and the run stops with an error instead of going on with NaN."""
-    from esph.runner import BEAM, run_mpi
+    from esph.problems import BEAM
+    from esph.runner import run_mpi
     with pytest.raises(RuntimeError) as err:
         run_mpi(BEAM, {"Fy": -1e9, "dx": 0.005, "route": "nve", "nsteps": 200}, 1)
     assert "is inverted (det F = " in str(err.value)

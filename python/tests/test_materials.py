@@ -17,7 +17,8 @@ import pytest
 from scipy.optimize import brentq
 
 from conftest import apply_affine, block, make_lammps, per_atom
-from esph.runner import BEAM, BEAM3D, TRUSS, run_script
+from esph.problems import BEAM, BEAM3D, TRUSS
+from esph.runner import run_script
 from test_patch import VOIGT, rotation_matrix, svk_cauchy
 
 E, NU = 1.0e9, 0.3

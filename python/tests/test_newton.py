@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from esph import validate
+from esph import problems
 from esph.paths import lmp_binary
-from esph.runner import BEAM, TRUSS, clean_environment, run_mpi, run_script
+from esph.problems import BEAM, TRUSS
+from esph.runner import clean_environment, run_mpi, run_script
 from test_errors import BASE, ICB
 
 LOAD = -250.0
@@ -82,7 +83,8 @@ def test_both_factorisations_reach_the_same_equilibrium(tmp_path, factor):
 # Eigen's LDL^T), then again after a run that CHOLMOD factorises
 COUNT_THREADS = """
 import os
-from esph.runner import BEAM, run_script
+from esph.problems import BEAM
+from esph.runner import run_script
 model = dict(Fy=-250.0, dx=0.002, stress="pk1", grad="quadratic", clamp="mirror", route="min",
              solver="newton", ftol=1e-8)
 run_script(BEAM, dict(model, dx=0.005, factor="ldlt"), read=["tip_dv"])
@@ -141,7 +143,7 @@ def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, sad
     assert ("equilibrium is unstable (a saddle point" in text) == saddle
     assert out.steps <= 8
     assert abs(out.variables["tip_dv"]) < 1e-12
-    exact = validate.truss_exact(load, dx, "pk1")
+    exact = problems.truss_exact(load, dx, "pk1")
     assert out.variables["tip_dh"] == pytest.approx(exact, rel=0.01)
 
 

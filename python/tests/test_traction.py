@@ -405,7 +405,8 @@ def test_bad_input_is_a_clear_error(command, words):
 def test_3d_face_traction_statics_agree_on_1_2_4_ranks():
     """examples/beam3d (exact volumes, mirror clamp, face traction, Newton)
     on a small cantilever: the same tip on 1, 2 and 4 ranks."""
-    from esph.runner import BEAM3D, run_mpi
+    from esph.problems import BEAM3D
+    from esph.runner import run_mpi
     variables = {"L": 0.04, "H": 0.01, "W": 0.01, "dx": 0.0025, "Fy": -2000.0, "nu": 0.3}
     tips = [run_mpi(BEAM3D, variables, n).variables for n in (1, 2, 4)]
     assert tips[0]["load_x"] == pytest.approx(0.04)

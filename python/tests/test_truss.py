@@ -6,7 +6,8 @@ import pytest
 
 from esph import theory
 from esph.matrix import run_case
-from esph.runner import TRUSS, run_mpi
+from esph.problems import TRUSS
+from esph.runner import run_mpi
 
 COARSE = 0.005   # m: 10 particles through H = 5 cm
 
