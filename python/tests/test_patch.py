@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import apply_affine, block, make_lammps, per_atom, positions
+from conftest import apply_affine, block, make_lammps, per_atom
 
 
 def rotation_matrix(dim, angle):

@@ -386,7 +386,7 @@ def test_material_warnings(tmp_path, change, warning):
 
 @pytest.mark.parametrize("depth,warned", [(1, True), (2, False), (3, False)])
 def test_thin_mirror_clamp_is_warned(tmp_path, depth, warned):
-    script = block_script().replace("region box block 0 12", f"region box block -{depth} 12") + f"""
+    script = block_script().replace("region box block 0 12", f"region box block -{depth} 12") + """
 region back block INF 0.0 INF INF INF INF units box
 group mirror region back
 fix clamp mirror sph/mirror x 0.0

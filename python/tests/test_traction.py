@@ -362,7 +362,6 @@ def test_displacement_from_a_variable_ramps():
     n = lmp.get_natoms()
     x = np.array(lmp.numpy.extract_atom("x")[:n])
     x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
-    ids = np.array(lmp.numpy.extract_atom("id")[:n])
     pos = {(round(a / DX - 0.5), round(b / DX - 0.5)): k for k, (a, b) in enumerate(x0[:, :2])}
     u0 = 1e-6 * 10
     checked = 0

@@ -206,7 +206,7 @@ def test_thin_rows_are_reported():
 def ring_body(nlayer, r_in, centre=(0.01, -0.02)):
     """Concentric circles r_k = r_in + (k + 1/2) DX with n_k = round(2 pi r_k / DX)."""
     lmp = make_lammps()
-    lmp.commands_string(f"""
+    lmp.commands_string("""
         units si
         dimension 2
         boundary f f p
