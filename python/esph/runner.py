@@ -146,11 +146,13 @@ def run_mpirun(cmd: list[str], cwd: Path, timeout: float) -> Launch:
 
 
 class RunError(RuntimeError):
-    """A run that failed; `error` is LAMMPS's own ERROR line, if it printed one."""
+    """A run that failed; `error` is LAMMPS's own ERROR line, if it printed
+    one, and `log` the whole output."""
 
-    def __init__(self, message: str, error: str):
+    def __init__(self, message: str, error: str, log: str = ""):
         super().__init__(message)
         self.error = error
+        self.log = log
 
 
 def lammps_error(text: str) -> str:
@@ -172,7 +174,7 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
         # LAMMPS's own ERROR line first: MPI's abort text after it can be long
         errors = "\n".join(_ERROR_RE.findall(out.log))
         raise RunError(f"{' '.join(cmd)} failed ({proc.returncode}):\n{errors}\n"
-                       f"{out.log[-3000:]}", lammps_error(out.log))
+                       f"{out.log[-3000:]}", lammps_error(out.log), out.log)
     out.variables = {m.group(1): float(m.group(2)) for m in _PRINT_RE.finditer(proc.stdout)}
     loops = _LOOP_RE.findall(proc.stdout)
     if loops:   # LAMMPS's own timing of the last run or minimize, and of all of them

@@ -63,6 +63,8 @@ FixSPHPartners::FixSPHPartners(LAMMPS *lmp, int narg, char **arg) :
   first = 1;
   maxpartner = 1;
   nmax_lcorr = 0;
+  amplification = 0.0;
+  amplified_atom = 0;
   // a migrating atom carries its whole partner list: the exchange buffer
   // must hold the longest, known only after the partners are built
   maxexchange_dynamic = 1;
@@ -288,6 +290,7 @@ void FixSPHPartners::build()
   neighbor->build_one(list);
   collect_partners();
   compute_corrections();
+  if (order == 2) measure_amplification();
   check_volumes_tile_the_body();
   built_from = fingerprint();
   first = 0;
@@ -529,6 +532,73 @@ void FixSPHPartners::compute_corrections()
       pd[HGW] = 0.5 * (vfrac[i] * std::sqrt(gij) + vfrac[j] * std::sqrt(gji)) / r;
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   how much the quadratic basis amplifies the corrected gradient: per atom,
+   the largest |g_ij| over its partners against the largest of the linear
+   fit with the same weights.  A quadratic fit across two particle layers
+   is singular on a flat body (caught above) but only ill-conditioned on a
+   curved one, and there the weights grow tens of times: the body becomes
+   that much stiffer, and the stable time step that much shorter.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::measure_amplification()
+{
+  const int dim = domain->dimension;
+  const double *const vfrac = atom->vfrac;
+  struct {
+    double value;
+    int rank;
+  } mine = {0.0, comm->me}, all;
+  tagint id = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (npartner[i] == 0) continue;
+    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+    if (dim == 2) moment(2, 2) = 1.0;
+    double quadratic = 0.0;
+    for (int k = 0; k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      double del[3];
+      for (int a = 0; a < 3; a++) del[a] = atom->x0[j][a] - atom->x0[i][a];
+      domain->minimum_image(del[0], del[1], del[2]);
+      const double r = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
+      const double weight = vfrac[j] * (-kernel.derivative(r) / r);
+      for (int a = 0; a < dim; a++)
+        for (int b = 0; b < dim; b++) moment(a, b) += weight * del[a] * del[b];
+      const double *g = &pdata[i][k * NPDATA + GIJ];
+      quadratic = std::max(quadratic, g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    }
+    const Eigen::Matrix3d inverse = moment.inverse();
+    double linear = 0.0;
+    for (int k = 0; k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      Eigen::Vector3d del;
+      for (int a = 0; a < 3; a++) del(a) = atom->x0[j][a] - atom->x0[i][a];
+      domain->minimum_image(del(0), del(1), del(2));
+      if (dim == 2) del(2) = 0.0;
+      const double r = del.norm();
+      const double weight = vfrac[j] * (-kernel.derivative(r) / r);
+      linear = std::max(linear, (weight * inverse * del).squaredNorm());
+    }
+    if (linear > 0.0 && quadratic > mine.value * mine.value * linear) {
+      mine.value = std::sqrt(quadratic / linear);
+      id = atom->tag[i];
+    }
+  }
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  MPI_Bcast(&id, 1, MPI_LMP_TAGINT, all.rank, world);
+  amplification = all.value;
+  amplified_atom = id;
+  if (amplification > AMPLIFICATION_WARN && comm->me == 0)
+    error->warning(FLERR,
+                   "The quadratic kernel gradient correction of atom {} has weights {:.3g} times "
+                   "those of the linear one (about 2.5 on a lattice): the body is too thin there "
+                   "(fewer than 3 particles across within 2h, e.g. a curved wall 2 particles "
+                   "thick) or too irregular.  It is that much stiffer there, and dynamics needs a "
+                   "timestep that much below the h/c estimate; use 'gradient linear', refine, or "
+                   "raise h",
+                   amplified_atom, amplification);
 }
 
 /* ----------------------------------------------------------------------

@@ -108,6 +108,23 @@ class FixSPHPartners : public Fix {
   void set_maxexchange();
   void collect_partners();
   void compute_corrections();
+  void measure_amplification();
+
+  // the largest ratio over atoms of the quadratic fit's gradient weights to
+  // the linear fit's (0 until measured), and an atom where it occurs
+  double amplification;
+  tagint amplified_atom;
+
+ public:
+  // on a lattice the quadratic fit's weights are at most about 2.6 times
+  // the linear fit's; ten times that means a body too thin or too
+  // irregular for the quadratic basis somewhere
+  static constexpr double AMPLIFICATION_WARN = 10.0;
+  double gradient_amplification(tagint &id) const
+  {
+    id = amplified_atom;
+    return amplification;
+  }
 };
 
 }    // namespace LAMMPS_NS

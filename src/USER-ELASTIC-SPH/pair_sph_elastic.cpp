@@ -410,6 +410,14 @@ std::string PairSPHElastic::instability_advice() const
     return fmt::format("the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {} h/c "
                        "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'",
                        update->dt, ratio, stable_fraction(), dt_unit, 0.25 * dt_unit);
+  tagint amplified = 0;
+  const double amplification = partners ? partners->gradient_amplification(amplified) : 0.0;
+  if (amplification > FixSPHPartners::AMPLIFICATION_WARN)
+    return fmt::format("the timestep {:.6g} = {:.3g} h/c is within the h/c estimate, but the "
+                       "quadratic gradient correction of atom {} is {:.3g} times the linear one "
+                       "(a body too thin or irregular there), which lowers the stable step about "
+                       "as much: use 'gradient linear', refine, or a smaller timestep",
+                       update->dt, ratio, amplified, amplification);
   return fmt::format("the timestep {:.6g} = {:.3g} h/c is within the stable estimate h/c = {:.6g}, "
                      "so the load is too large for this resolution or the body lost stability",
                      update->dt, ratio, dt_unit);
