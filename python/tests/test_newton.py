@@ -130,6 +130,37 @@ def test_newton_on_ranks_agrees_with_serial():
         assert tip["tip_dh"] == pytest.approx(tips[0]["tip_dh"], rel=1e-10)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("linear", ["petsc", "mumps"])
+def test_distributed_solvers_reach_the_direct_solve_equilibrium(linear):
+    """min_modify solver petsc (CG + GAMG, each rank adding its own Hessian
+    entries) and mumps reach the equilibrium of the rank-0 direct solve, on
+    1 and 2 ranks, in as many Newton iterations."""
+    variables = {**COARSE, "grad": "quadratic", "clamp": "mirror", "solver": "newton",
+                 "ftol": 1e-10}
+    direct = run_mpi(BEAM, variables, 1).variables
+    for nprocs in (1, 2):
+        out = run_mpi(BEAM, {**variables, "linear": linear}, nprocs)
+        assert "PETSc" in out.log
+        assert out.variables["tip_dv"] == pytest.approx(direct["tip_dv"], rel=1e-9)
+        assert out.variables["tip_dh"] == pytest.approx(direct["tip_dh"], rel=1e-8)
+        assert out.variables["steps"] == direct["steps"]
+
+
+def test_distributed_solver_saddle_is_reported(tmp_path):
+    """CG meets the negative curvature of the buckled truss: the diagonal is
+    shifted and the saddle point reported, as with the direct solve."""
+    log = tmp_path / "truss.log"
+    out = run_script(TRUSS, {"Fx": -7000.0, "dx": 0.005, "grad": "quadratic", "clamp": "mirror",
+                             "solver": "newton", "linear": "petsc"}, read=["tip_dh", "tip_dv"],
+                     log=log)
+    text = log.read_text()
+    assert "PETSc CG" in text
+    assert "equilibrium is unstable (a saddle point" in text
+    assert out.variables["tip_dh"] == pytest.approx(problems.truss_exact(-7000.0, 0.005, "pk1"),
+                                                    rel=0.01)
+
+
 @pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])
 def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, saddle):
     """The bar buckles near -1.3 kN.  Newton keeps a symmetric bar straight

@@ -53,6 +53,7 @@ class MinSPHNewton : public MinLineSearch {
   std::unique_ptr<SPHElastic::NewtonDofs> dofs;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
   int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT
+  int backend;                              // min_modify solver: DIRECT, PETSC_CG or PETSC_MUMPS
   std::vector<double> force_share, step;    // on the free coordinates
   int nroundoff;                            // line searches in a row that ended below round-off
   double roundoff_fnorm;                    // |f|^2 when that run began
