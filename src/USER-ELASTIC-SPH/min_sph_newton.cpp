@@ -54,7 +54,7 @@ constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
-enum SolverChoice { DIRECT, PETSC_CG, PETSC_MUMPS };
+enum SolverChoice { DIRECT, PETSC, MUMPS };
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -79,7 +79,7 @@ void MinSPHNewton::init()
     solver = std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
   else
     solver = std::make_unique<PetscLinearSolver>(
-        lmp, backend == PETSC_MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::CG_GAMG);
+        lmp, backend == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -91,9 +91,9 @@ int MinSPHNewton::modify_param(int narg, char **arg)
     if (strcmp(arg[1], "direct") == 0)
       backend = DIRECT;
     else if (strcmp(arg[1], "petsc") == 0)
-      backend = PETSC_CG;
+      backend = PETSC;
     else if (strcmp(arg[1], "mumps") == 0)
-      backend = PETSC_MUMPS;
+      backend = MUMPS;
     else
       error->all(FLERR, "Unknown min_modify solver {}: use direct, petsc or mumps", arg[1]);
     if (backend != DIRECT && !PetscLinearSolver::available())
@@ -180,6 +180,7 @@ int MinSPHNewton::iterate(int maxiter)
 void MinSPHNewton::start()
 {
   dofs->find(vflag);
+  hessian = std::make_unique<FreeHessian>(atom, *pair, *dofs);
   solver->reset(dofs->nfree());
   if (comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
@@ -199,7 +200,7 @@ int MinSPHNewton::newton_loop(int maxiter)
     const bigint ntimestep = ++update->ntimestep;
     niter++;
 
-    solver->assemble(FreeHessian(*pair, *dofs));
+    solver->assemble(*hessian);
     dofs->free_force(force_share);
     solver->solve(force_share, step);
     dofs->expand(step, h);

@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
@@ -35,35 +36,120 @@ using namespace SPHElastic;
 #ifdef ESPH_HAVE_PETSC
 
 namespace {
-constexpr int MAXSHIFT = 30;               // diagonal shifts tried on an indefinite Hessian
-constexpr double DEFAULT_RTOL = 1.0e-8;    // relative residual of an iterative Newton step
-constexpr int MAXIT = 10000;               // CG iterations per solve
-// GMRES iterations for the plain step of an indefinite K before shifting
-constexpr int MAXIT_INDEFINITE = 500;
+constexpr double RTOL = 1.0e-8;           // relative residual of an iterative Newton step
+constexpr int MAXIT = 5000;               // Krylov iterations per solve
+constexpr double FIRST_SHIFT = 1.0e-8;    // of the largest diagonal entry; then x10 each time
+constexpr int MAXSHIFT = 14;              // shifts tried before giving up (up to 1e5 x diagonal)
+
+/* ----------------------------------------------------------------------
+   a parallel AIJ matrix given as coordinate entries, each rank its own
+   (PETSc sums repeated entries and moves those of other ranks' rows).
+   The pattern is set once and again only when the entries come in
+   another order, which a hash of the (row, col) sequence tells.
+------------------------------------------------------------------------- */
+
+struct CooMatrix {
+  Mat M = nullptr;
+  uint64_t pattern_hash = 0;
+  size_t pattern_size = 0;
+  std::vector<PetscInt> rows, cols;
+  std::vector<PetscScalar> values;
+
+  void clear()
+  {
+    rows.clear();
+    cols.clear();
+    values.clear();
+  }
+  // both triangles from a lower-triangle entry
+  void add_symmetric(PetscInt row, PetscInt col, double value)
+  {
+    rows.push_back(row);
+    cols.push_back(col);
+    values.push_back(value);
+    if (row != col) {
+      rows.push_back(col);
+      cols.push_back(row);
+      values.push_back(value);
+    }
+  }
+  void destroy()
+  {
+    if (M) MatDestroy(&M);
+    pattern_size = 0;
+  }
+  // returns true if the matrix (and so its layout) was created afresh
+  bool set(MPI_Comm world, PetscInt nlocal, PetscInt n)
+  {
+    uint64_t hash = 1469598103934665603ULL;    // FNV-1a
+    for (size_t e = 0; e < rows.size(); e++) {
+      hash = (hash ^ static_cast<uint64_t>(rows[e])) * 1099511628211ULL;
+      hash = (hash ^ static_cast<uint64_t>(cols[e])) * 1099511628211ULL;
+    }
+    int same = (M != nullptr && hash == pattern_hash && rows.size() == pattern_size) ? 1 : 0;
+    int all_same = 0;
+    MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_MIN, world);
+    if (!all_same) {
+      destroy();
+      MatCreate(world, &M);
+      MatSetSizes(M, nlocal, nlocal, n, n);
+      MatSetType(M, MATAIJ);
+      MatSetOptionsPrefix(M, "sph_");
+      MatSetFromOptions(M);
+      MatSetPreallocationCOO(M, rows.size(), rows.data(), cols.data());
+      MatSetOption(M, MAT_SYMMETRIC, PETSC_TRUE);
+      pattern_hash = hash;
+      pattern_size = rows.size();
+    }
+    MatSetValuesCOO(M, values.data(), INSERT_VALUES);
+    clear();
+    return !all_same;
+  }
+};
 }    // namespace
 
 struct PetscLinearSolver::Objects {
-  Mat K = nullptr;
+  CooMatrix assembled;    // the Hessian (MUMPS) or the spring matrix (matrix-free)
+  Mat shell = nullptr;    // matrix-free: the Hessian as its product
   Vec rhs = nullptr, x = nullptr, x_all = nullptr;
   VecScatter to_all = nullptr;
   KSP ksp = nullptr;
-  // the coordinate (COO) pattern this rank gives PETSc, as row << 32 | col
-  std::vector<uint64_t> keys;
-  std::vector<PetscScalar> values;
+  // matrix-free: the free coordinates this rank's atoms follow, their
+  // values gathered for a product, and the product's entries
+  const FreeHessian *hessian = nullptr;
+  std::vector<int> needed;
+  Vec v_needed = nullptr;
+  VecScatter to_needed = nullptr;
+  std::vector<PetscInt> product_rows;
+  std::vector<PetscScalar> product_values;
+  double shell_shift = 0.0;
 
-  void destroy()
+  Mat hessian_matrix() const { return shell ? shell : assembled.M; }
+  void destroy_layout()
   {
     if (ksp) KSPDestroy(&ksp);
     if (to_all) VecScatterDestroy(&to_all);
     if (x_all) VecDestroy(&x_all);
     if (x) VecDestroy(&x);
     if (rhs) VecDestroy(&rhs);
-    if (K) MatDestroy(&K);
-    keys.clear();
+    if (shell) MatDestroy(&shell);
+  }
+  void destroy_needed()
+  {
+    if (to_needed) VecScatterDestroy(&to_needed);
+    if (v_needed) VecDestroy(&v_needed);
+  }
+  void destroy()
+  {
+    destroy_needed();
+    destroy_layout();
+    assembled.destroy();
   }
 };
 
 /* ---------------------------------------------------------------------- */
+
+static PetscErrorCode shell_product(Mat K, Vec v, Vec y);
 
 static void petsc_check(Error *error, PetscErrorCode code, const char *what)
 {
@@ -76,7 +162,7 @@ static void petsc_check(Error *error, PetscErrorCode code, const char *what)
 
 PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
     LinearSolver(lmp), p(new Objects), method(method), n(0), negative_curvature(false), nsolve(0),
-    niterations(0), nshifted(0)
+    niterations(0), nshifted(0), nminres(0), setup_time(0.0), solve_time(0.0)
 {
   PetscBool initialized = PETSC_FALSE;
   PetscInitialized(&initialized);
@@ -106,96 +192,196 @@ bool PetscLinearSolver::available()
 std::string PetscLinearSolver::name() const
 {
   return method == MUMPS ? "PETSc with MUMPS's parallel LDL^T"
-                         : "PETSc CG with algebraic multigrid (GAMG), distributed";
+                         : "PETSc CG on the Hessian product, algebraic multigrid (BoomerAMG) on "
+                           "the spring matrix, distributed";
 }
 
-/* ----------------------------------------------------------------------
-   the rows of the free coordinates are split among the ranks in blocks,
-   as PETSc's default layout does
-------------------------------------------------------------------------- */
+/* ---------------------------------------------------------------------- */
 
 void PetscLinearSolver::reset(int nfree)
 {
   p->destroy();
   n = nfree;
   negative_curvature = false;
-  nsolve = niterations = nshifted = 0;
+  nsolve = niterations = nshifted = nminres = 0;
+  setup_time = solve_time = 0.0;
 }
 
 /* ----------------------------------------------------------------------
-   this rank's entries in both triangles, and an explicit diagonal on the
-   rows it owns (the shifts need it); the pattern is given to PETSc once
-   and again only when the entries come in another order
+   the rows of the free coordinates are split among the ranks in blocks,
+   as PETSc's default layout does.  MUMPS: the Hessian's entries, with an
+   explicit diagonal on the rows a rank owns (a shift needs it).  Matrix
+   free: the spring matrix for the preconditioner, the Hessian a shell
+   whose product the pair computes.
 ------------------------------------------------------------------------- */
 
 void PetscLinearSolver::assemble(const FreeHessian &hessian)
 {
+  const double start = MPI_Wtime();
+  Objects &o = *p;
   PetscInt nlocal = PETSC_DECIDE, global = n;
   PetscSplitOwnership(world, &nlocal, &global);
   PetscInt first = 0;
   MPI_Scan(&nlocal, &first, 1, MPIU_INT, MPI_SUM, world);
   first -= nlocal;
 
-  std::vector<uint64_t> keys;
-  auto &values = p->values;
-  values.clear();
-  auto key = [](PetscInt row, PetscInt col) {
-    return (static_cast<uint64_t>(row) << 32) | static_cast<uint32_t>(col);
-  };
-  hessian.for_each_lower_entry([&](int row, int col, double value) {
-    keys.push_back(key(row, col));
-    values.push_back(value);
-    if (row != col) {
-      keys.push_back(key(col, row));
-      values.push_back(value);
-    }
+  CooMatrix &coo = o.assembled;
+  auto add = [&](int row, int col, double value) {
+    coo.add_symmetric(row, col, value);
     return true;
-  });
-  for (PetscInt r = first; r < first + nlocal; r++) {
-    keys.push_back(key(r, r));
-    values.push_back(0.0);
-  }
+  };
+  if (method == MUMPS)
+    hessian.for_each_lower_entry(add);
+  else
+    hessian.for_each_lower_spring_entry(add);
+  for (PetscInt r = first; r < first + nlocal; r++) coo.add_symmetric(r, r, 0.0);
+  const bool new_layout = coo.set(world, nlocal, n);
 
-  int same = (p->K != nullptr && keys == p->keys) ? 1 : 0, all_same = 0;
-  MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_MIN, world);
-  if (!all_same) {
-    p->destroy();
-    petsc_check(error, MatCreate(world, &p->K), "MatCreate");
-    MatSetSizes(p->K, nlocal, nlocal, n, n);
-    MatSetType(p->K, MATAIJ);
-    MatSetOptionsPrefix(p->K, "sph_");
-    MatSetFromOptions(p->K);
-    std::vector<PetscInt> rows(keys.size()), cols(keys.size());
-    for (size_t e = 0; e < keys.size(); e++) {
-      rows[e] = static_cast<PetscInt>(keys[e] >> 32);
-      cols[e] = static_cast<PetscInt>(keys[e] & 0xffffffffu);
+  if (new_layout || !o.x) {
+    o.destroy_layout();
+    if (method == MATRIX_FREE) {
+      MatCreateShell(world, nlocal, nlocal, n, n, &o, &o.shell);
+      MatShellSetOperation(o.shell, MATOP_MULT, reinterpret_cast<void (*)(void)>(shell_product));
+      MatSetOption(o.shell, MAT_SYMMETRIC, PETSC_TRUE);
     }
-    petsc_check(error, MatSetPreallocationCOO(p->K, keys.size(), rows.data(), cols.data()),
-                "MatSetPreallocationCOO");
-    MatSetOption(p->K, MAT_SYMMETRIC, PETSC_TRUE);
-    MatCreateVecs(p->K, &p->x, &p->rhs);
-    VecScatterCreateToAll(p->x, &p->to_all, &p->x_all);
-    p->keys.swap(keys);
+    MatCreateVecs(o.assembled.M, &o.x, &o.rhs);
+    VecScatterCreateToAll(o.x, &o.to_all, &o.x_all);
+    create_solver();
   }
-  petsc_check(error, MatSetValuesCOO(p->K, values.data(), INSERT_VALUES), "MatSetValuesCOO");
+  o.shell_shift = 0.0;
+
+  if (method == MATRIX_FREE) {
+    o.hessian = &hessian;
+    // atoms may have moved between ranks since the last iteration
+    o.destroy_needed();
+    o.needed = hessian.needed_indices();
+    IS wanted;
+    ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), o.needed.data(),
+                    PETSC_COPY_VALUES, &wanted);
+    VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), &o.v_needed);
+    VecScatterCreate(o.x, wanted, o.v_needed, nullptr, &o.to_needed);
+    ISDestroy(&wanted);
+  }
+  KSPSetOperators(o.ksp, o.hessian_matrix(), o.assembled.M);
+  setup_time += MPI_Wtime() - start;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PetscLinearSolver::create_solver()
+{
+  Objects &o = *p;
+  KSPCreate(world, &o.ksp);
+  KSPSetOptionsPrefix(o.ksp, "sph_");
+  PC pc;
+  KSPGetPC(o.ksp, &pc);
+  if (method == MUMPS) {
+    KSPSetType(o.ksp, KSPPREONLY);
+    PCSetType(pc, PCCHOLESKY);
+    PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+  } else {
+    // BoomerAMG: PETSc's own GAMG meets an indefinite preconditioner on
+    // the spring matrix of the clamped beam (measured), hypre's does not
+    KSPSetType(o.ksp, KSPCG);
+    PCSetType(pc, PCHYPRE);
+    PCHYPRESetType(pc, "boomeramg");
+  }
+  KSPSetTolerances(o.ksp, RTOL, PETSC_DEFAULT, PETSC_DEFAULT, MAXIT);
+  KSPSetFromOptions(o.ksp);
+}
+
+/* ----------------------------------------------------------------------
+   y = K v + shift v: v's entries that this rank's atoms follow are
+   gathered, the pair multiplies, and each rank adds its share of y
+------------------------------------------------------------------------- */
+
+static PetscErrorCode shell_product(Mat K, Vec v, Vec y)
+{
+  PetscLinearSolver::Objects *o = nullptr;
+  MatShellGetContext(K, &o);
+  VecScatterBegin(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
+  const PetscScalar *gathered;
+  VecGetArrayRead(o->v_needed, &gathered);
+  const auto &needed = o->needed;
+  auto value = [&](int r) {
+    return gathered[std::lower_bound(needed.begin(), needed.end(), r) - needed.begin()];
+  };
+  o->product_rows.clear();
+  o->product_values.clear();
+  o->hessian->product(value, [&](int r, double share) {
+    o->product_rows.push_back(r);
+    o->product_values.push_back(share);
+  });
+  VecRestoreArrayRead(o->v_needed, &gathered);
+  VecSet(y, 0.0);
+  VecSetValues(y, static_cast<PetscInt>(o->product_rows.size()), o->product_rows.data(),
+               o->product_values.data(), ADD_VALUES);
+  VecAssemblyBegin(y);
+  VecAssemblyEnd(y);
+  if (o->shell_shift != 0.0) VecAXPY(y, o->shell_shift, v);
+  return 0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 std::string PetscLinearSolver::summary() const
 {
-  if (method == MUMPS) return fmt::format("{} MUMPS solves, {} shifted", nsolve, nshifted);
-  return fmt::format("{} CG solves, {} iterations in all, {} shifted", nsolve, niterations,
-                     nshifted);
+  const std::string times =
+      fmt::format("{:.3g} s setting up, {:.3g} s solving", setup_time, solve_time);
+  if (method == MUMPS)
+    return fmt::format("{} MUMPS solves, {} shifted; {}", nsolve, nshifted, times);
+  return fmt::format("{} solves, {} Krylov iterations in all, {} by MINRES, {} shifted; {}", nsolve,
+                     niterations, nminres, nshifted, times);
 }
 
 /* ----------------------------------------------------------------------
-   the step from K step = f; where that fails or does not point downhill
-   (negative curvature) the diagonal is shifted until it does
+   one solve with the given Krylov method: true if it converged to a step
+   that points downhill
+------------------------------------------------------------------------- */
+
+bool PetscLinearSolver::solve_with(const char *ksp_type)
+{
+  Objects &o = *p;
+  if (method == MATRIX_FREE) KSPSetType(o.ksp, ksp_type);
+  KSPSolve(o.ksp, o.rhs, o.x);
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(o.ksp, &reason);
+  PetscInt iterations = 0;
+  KSPGetIterationNumber(o.ksp, &iterations);
+  niterations += iterations;
+  if (reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC)
+    negative_curvature = true;
+  PetscScalar downhill = 0.0;
+  VecDot(o.rhs, o.x, &downhill);
+  if (reason > 0 && !(std::isfinite(downhill) && downhill > 0.0)) negative_curvature = true;
+  return reason > 0 && std::isfinite(downhill) && downhill > 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PetscLinearSolver::shift_diagonal(double amount)
+{
+  Objects &o = *p;
+  if (method == MUMPS) {
+    MatShift(o.assembled.M, amount);
+    KSPSetOperators(o.ksp, o.assembled.M, o.assembled.M);
+  } else {
+    o.shell_shift += amount;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the plain Newton step wherever it points downhill, as the direct solve
+   does (at a symmetric state, such as a straight bar beyond buckling, it
+   converges to the symmetric equilibrium): MUMPS's LDL^T gives it for any
+   K, CG where K is positive definite, MINRES where it is not.  Otherwise
+   the diagonal is shifted until CG's step points downhill.
 ------------------------------------------------------------------------- */
 
 void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vector<double> &step)
 {
+  const double start = MPI_Wtime();
   Objects &o = *p;
   VecSet(o.rhs, 0.0);
   for (int r = 0; r < n; r++)
@@ -203,73 +389,54 @@ void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vecto
   VecAssemblyBegin(o.rhs);
   VecAssemblyEnd(o.rhs);
 
-  if (!o.ksp) {
-    KSPCreate(world, &o.ksp);
-    KSPSetOptionsPrefix(o.ksp, "sph_");
+  negative_curvature = false;
+  bool done = solve_with(method == MUMPS ? KSPPREONLY : KSPCG);
+  if (method == MUMPS) {
+    // the negative pivots of the LDL^T are K's negative eigenvalues
+    // (unless PETSc options chose another method)
     PC pc;
     KSPGetPC(o.ksp, &pc);
-    if (method == MUMPS) {
-      KSPSetType(o.ksp, KSPPREONLY);
-      PCSetType(pc, PCCHOLESKY);
-      PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
-    } else {
-      KSPSetType(o.ksp, KSPCG);
-      PCSetType(pc, PCGAMG);
-      KSPSetTolerances(o.ksp, DEFAULT_RTOL, PETSC_DEFAULT, PETSC_DEFAULT, MAXIT);
+    PetscBool factored = PETSC_FALSE;
+    PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factored, PCCHOLESKY, PCLU, "");
+    MatSolverType package = nullptr;
+    if (factored) PCFactorGetMatSolverType(pc, &package);
+    if (package && strcmp(package, MATSOLVERMUMPS) == 0) {
+      Mat factor;
+      PCFactorGetMatrix(pc, &factor);
+      PetscInt negative = 0;
+      MatMumpsGetInfog(factor, 12, &negative);
+      if (negative > 0) negative_curvature = true;
     }
-    KSPSetFromOptions(o.ksp);
+  } else if (!done) {
+    nminres++;
+    done = solve_with(KSPMINRES);
   }
 
-  PetscReal diagonal_max = 0.0;
-  double shift = 0.0;
   int nshift = 0;
-  bool tried_gmres = false;
-  negative_curvature = false;
-  while (true) {
-    KSPSetOperators(o.ksp, o.K, o.K);
-    KSPSolve(o.ksp, o.rhs, o.x);
-    KSPConvergedReason reason;
-    KSPGetConvergedReason(o.ksp, &reason);
-    PetscInt iterations = 0;
-    KSPGetIterationNumber(o.ksp, &iterations);
-    niterations += iterations;
-    PetscScalar downhill = 0.0;
-    VecDot(o.rhs, o.x, &downhill);
-    if (reason > 0 && std::isfinite(downhill) && downhill > 0.0) break;
-    const bool indefinite = reason == KSP_DIVERGED_INDEFINITE_MAT ||
-        reason == KSP_DIVERGED_INDEFINITE_PC || downhill <= 0.0;
-    if (indefinite) negative_curvature = true;
-    // as the direct solve does: the plain Newton step of an indefinite K
-    // wherever it points downhill (at a symmetric state, such as a straight
-    // bar beyond buckling, it converges to the symmetric equilibrium).
-    // CG cannot give it; GMRES can, with the same preconditioner
-    if (indefinite && method == CG_GAMG && nshift == 0 && !tried_gmres) {
-      tried_gmres = true;
-      KSPSetType(o.ksp, KSPGMRES);
-      KSPSetTolerances(o.ksp, DEFAULT_RTOL, PETSC_DEFAULT, PETSC_DEFAULT, MAXIT_INDEFINITE);
-      continue;
+  if (!done) {
+    PetscReal diagonal_max = 0.0;
+    Vec diagonal;
+    MatCreateVecs(o.assembled.M, &diagonal, nullptr);
+    MatGetDiagonal(o.assembled.M, diagonal);
+    VecNorm(diagonal, NORM_INFINITY, &diagonal_max);
+    VecDestroy(&diagonal);
+    double total = 0.0, next = FIRST_SHIFT * diagonal_max;
+    while (!done) {
+      if (++nshift > MAXSHIFT)
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Min_style sph/newton: PETSc's solve finds no downhill step after {} diagonal "
+                   "shifts (up to {:.3g}); the Hessian may be singular (a body free to move) or "
+                   "the run unstable",
+                   MAXSHIFT, total);
+      shift_diagonal(next - total);
+      total = next;
+      next *= 10.0;
+      done = solve_with(KSPCG);
     }
-    if (++nshift > MAXSHIFT)
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Min_style sph/newton: PETSc's solve fails after {} diagonal shifts ({})",
-                 MAXSHIFT, KSPConvergedReasons[reason]);
-    if (diagonal_max == 0.0) {
-      Vec diagonal;
-      MatCreateVecs(o.K, &diagonal, nullptr);
-      MatGetDiagonal(o.K, diagonal);
-      VecNorm(diagonal, NORM_INFINITY, &diagonal_max);
-      VecDestroy(&diagonal);
-      shift = 1.0e-10 * diagonal_max;
-    }
-    MatShift(o.K, shift);    // cumulative: the total shift grows about tenfold each time
-    shift *= 9.0;
+    nshifted++;
   }
+  if (method == MATRIX_FREE) KSPSetType(o.ksp, KSPCG);
   nsolve++;
-  if (nshift) nshifted++;
-  if (tried_gmres) {    // CG again for the next Hessian
-    KSPSetType(o.ksp, KSPCG);
-    KSPSetTolerances(o.ksp, DEFAULT_RTOL, PETSC_DEFAULT, PETSC_DEFAULT, MAXIT);
-  }
 
   VecScatterBegin(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
   VecScatterEnd(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
@@ -277,6 +444,7 @@ void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vecto
   VecGetArrayRead(o.x_all, &all);
   step.assign(all, all + n);
   VecRestoreArrayRead(o.x_all, &all);
+  solve_time += MPI_Wtime() - start;
 }
 
 #else    // built without PETSc
@@ -285,7 +453,7 @@ struct PetscLinearSolver::Objects {};
 
 PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
     LinearSolver(lmp), method(method), n(0), negative_curvature(false), nsolve(0), niterations(0),
-    nshifted(0)
+    nshifted(0), nminres(0), setup_time(0.0), solve_time(0.0)
 {
   error->all(FLERR, Error::NOLASTLINE,
              "Min_modify solver petsc: this LAMMPS was built without PETSc (install it, e.g. "

@@ -22,18 +22,23 @@ namespace LAMMPS_NS {
 namespace SPHElastic {
 
   /* ----------------------------------------------------------------------
-     a distributed solve with PETSc: every rank adds the Hessian entries it
-     computes into a parallel AIJ matrix (PETSc moves the entries of rows
-     another rank owns), whose pattern is set once per set of free
-     coordinates.  CG preconditioned by algebraic multigrid (GAMG) where
-     the matrix is positive definite, the diagonal shifted where CG meets
-     negative curvature; or MUMPS's parallel direct LDL^T.  PETSc options
-     (PETSC_OPTIONS, prefix sph_) tune either.
+     distributed solves with PETSc, on the ranks LAMMPS runs on.
+     MATRIX_FREE: conjugate gradients on the Hessian product of pair
+       sph/icb (no matrix: the two-hop Hessian of a 3d body has ~4000
+       entries per row), preconditioned by algebraic multigrid (hypre's
+       BoomerAMG) on the one-hop spring matrix; MINRES for the plain Newton
+       step where the Hessian is indefinite.  The spring matrix lacks the
+       soft (hourglass-like) modes of the SPH Hessian: without hourglass
+       control CG needs ~1000 iterations on a 3d beam (measured).
+     MUMPS: the assembled Hessian (each rank adds its own entries, PETSc
+       moves those of rows another rank owns) and MUMPS's parallel LDL^T.
+     Where the step does not point downhill the diagonal is shifted.  PETSc
+     options with the prefix sph_ (PETSC_OPTIONS) tune either.
   ------------------------------------------------------------------------- */
 
   class PetscLinearSolver : public LinearSolver {
    public:
-    enum Method { CG_GAMG, MUMPS };
+    enum Method { MATRIX_FREE, MUMPS };
     PetscLinearSolver(class LAMMPS *, Method);
     ~PetscLinearSolver() override;
 
@@ -46,13 +51,19 @@ namespace SPHElastic {
     bool indefinite() const override { return negative_curvature; }
     std::string summary() const override;
 
+    struct Objects;    // PETSc's matrices, vectors and solver (in the .cpp)
+
    private:
-    struct Objects;    // PETSc's matrix, vectors and solver
     std::unique_ptr<Objects> p;
     Method method;
     int n;
     bool negative_curvature;
-    int nsolve, niterations, nshifted;
+    int nsolve, niterations, nshifted, nminres;
+    double setup_time, solve_time;
+
+    void create_solver();
+    bool solve_with(const char *ksp_type);
+    void shift_diagonal(double);
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
