@@ -10,7 +10,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 APT_PACKAGES=(build-essential cmake ninja-build ccache pkg-config xz-utils
               libopenmpi-dev openmpi-bin libeigen3-dev libyaml-dev googletest
               python3 python3-venv python3-dev valgrind clang-format
-              libsuitesparse-dev libopenblas0-serial)
+              libsuitesparse-dev libopenblas0-serial libpetsc-real-dev)
 
 install_system_packages() {
   local missing=()

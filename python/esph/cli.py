@@ -1,4 +1,4 @@
-"""Command line: python -m esph {validate,bench,matrix,speed,statics,figures,rings} ...
+"""Command line: python -m esph {validate,bench,bench3d,matrix,speed,statics,figures,rings} ...
 (see --help).  This module only parses arguments and hands them to the
 module that does the work."""
 from __future__ import annotations
@@ -7,7 +7,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import figures, matrix, rings, speed, statics, theory, validate
+from . import bench3d, figures, matrix, rings, speed, statics, theory, validate
 from .report import progress
 
 
@@ -43,6 +43,12 @@ def cmd_validate(args) -> int:
 def cmd_bench(args) -> int:
     speed.throughput(_floats(args.dx), _names(args.styles, speed.BENCH_STYLES, "style"),
                      _ints(args.np), args.steps)
+    return 0
+
+
+def cmd_bench3d(args) -> int:
+    bench3d.bench3d(_floats(args.dx), _ints(args.np),
+                    _names(args.solvers, bench3d.SOLVERS, "solver"), args.layers, args.timeout)
     return 0
 
 
@@ -121,6 +127,19 @@ def main(argv=None) -> int:
                      help="comma-separated: " + ", ".join(speed.BENCH_STYLES) + " (tlsph = MACHDYN "
                           "smd/tlsph on the same beam)")
     ben.set_defaults(func=cmd_bench)
+
+    b3d = sub.add_parser("bench3d", help="3D cantilever statics per linear solver: iterations, "
+                         "time, memory per rank, ratio to 100 dynamic steps")
+    b3d.add_argument("--dx", default="0.002", help="comma-separated spacings in m (0.002; "
+                     "0.001 is the 81k-atom case)")
+    b3d.add_argument("--np", default="1,2", help="comma-separated MPI rank counts (1,2; add 4 "
+                     "to oversubscribe for communication volume)")
+    b3d.add_argument("--solvers", default=",".join(bench3d.SOLVERS),
+                     help="comma-separated min_modify solver values: " + ", ".join(bench3d.SOLVERS))
+    b3d.add_argument("--layers", type=int, default=10,
+                     help="particles across the square section (10): H = W = layers*dx, L = 10 H")
+    b3d.add_argument("--timeout", type=float, default=1800, help="seconds per run (1800)")
+    b3d.set_defaults(func=cmd_bench3d)
 
     mat = sub.add_parser("matrix", help="the paper's failure matrix: Tables 1 and 3, all schemes")
     mat.add_argument("--problem", default="both", choices=["beam", "truss", "both"])

@@ -80,6 +80,19 @@ def test_figures_writes_beam_snapshots(tmp_path):
     assert (tmp_path / "beam_icb_-250_5mm.png").stat().st_size > 1000
 
 
+def test_bench3d_rows_for_each_solver():
+    """One row per linear solver, each with the body's atom count, the
+    Newton iterations and a measured peak memory per rank."""
+    proc = run_cli("bench3d", "--dx", "0.0025", "--layers", "4", "--np", "1")
+    assert proc.returncode == 0, proc.stderr
+    rows = [line.split() for line in proc.stdout.splitlines()
+            if len(line.split()) > 3 and line.split()[3] in ("direct", "mumps", "petsc")]
+    assert [r[3] for r in rows] == ["direct", "mumps", "petsc"]
+    for r in rows:
+        assert int(r[1]) == 688 and int(r[4]) == 7        # atoms, Newton iterations
+        assert 10.0 < float(r[6]) < 4000.0                 # MB per rank, measured
+
+
 @pytest.mark.slow
 def test_bench_rows_for_each_style():
     proc = run_cli("bench", "--dx", "0.005", "--np", "1", "--steps", "50", "--styles",

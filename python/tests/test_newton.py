@@ -13,7 +13,7 @@ import pytest
 
 from esph import problems
 from esph.paths import lmp_binary
-from esph.problems import BEAM, TRUSS
+from esph.problems import BEAM, BEAM3D, TRUSS
 from esph.runner import clean_environment, run_mpi, run_script
 from test_errors import BASE, ICB
 
@@ -128,6 +128,60 @@ def test_newton_on_ranks_agrees_with_serial():
     for tip in tips[1:]:
         assert tip["tip_dv"] == pytest.approx(tips[0]["tip_dv"], rel=1e-10)
         assert tip["tip_dh"] == pytest.approx(tips[0]["tip_dh"], rel=1e-10)
+
+
+@pytest.mark.parametrize("linear", ["petsc", "mumps"])
+def test_distributed_solvers_reach_the_direct_solve_equilibrium(linear):
+    """min_modify solver petsc (CG on the matrix-free Hessian product) and
+    mumps (the assembled Hessian, each rank adding its own entries) reach
+    the equilibrium of the rank-0 direct solve, on 1 and 2 ranks, in as
+    many Newton iterations: the product is the Hessian's."""
+    variables = {**COARSE, "grad": "quadratic", "clamp": "mirror", "solver": "newton",
+                 "ftol": 1e-10}
+    direct = run_mpi(BEAM, variables, 1).variables
+    for nprocs in (1, 2):
+        out = run_mpi(BEAM, {**variables, "linear": linear}, nprocs)
+        assert "PETSc" in out.log
+        assert out.variables["tip_dv"] == pytest.approx(direct["tip_dv"], rel=1e-9)
+        assert out.variables["tip_dh"] == pytest.approx(direct["tip_dh"], rel=1e-8)
+        assert out.variables["steps"] == direct["steps"]
+
+
+@pytest.mark.parametrize("linear", ["petsc", "mumps"])
+def test_distributed_solver_saddle_is_reported(tmp_path, linear):
+    """Beyond buckling the straight bar is a saddle point.  As the direct
+    solve does, MUMPS's LDL^T and MINRES (after CG meets negative curvature)
+    give the plain Newton step, which keeps the bar straight: the exact
+    compressed length, and the saddle reported."""
+    log = tmp_path / "truss.log"
+    out = run_script(TRUSS, {"Fx": -7000.0, "dx": 0.005, "grad": "quadratic", "clamp": "mirror",
+                             "solver": "newton", "linear": linear}, read=["tip_dh", "tip_dv"],
+                     log=log)
+    text = log.read_text()
+    assert "PETSc" in text
+    assert "equilibrium is unstable (a saddle point" in text
+    assert out.variables["tip_dh"] == pytest.approx(problems.truss_exact(-7000.0, 0.005, "pk1"),
+                                                    rel=1e-6)
+    assert abs(out.variables["tip_dv"]) < 1e-12
+
+
+def test_distributed_solver_matches_in_3d_with_hourglass_control():
+    """In 3d, with hourglass control (whose spring part the product must
+    include as the assembled Hessian does), the three solvers converge to
+    the same equilibrium."""
+    variables = {"L": 0.04, "H": 0.01, "W": 0.01, "dx": 0.0025, "Fy": -100.0, "hg": 0.005,
+                 "ftol": 1e-10, "solver": "newton"}
+    runs = [run_mpi(BEAM3D, {**variables, "linear": linear}, nprocs).variables
+            for linear, nprocs in (("direct", 1), ("petsc", 2), ("mumps", 2))]
+    for run in runs:
+        assert run["steps"] < 200    # converged, not stopped by maxit
+        assert run["tip_dv"] == pytest.approx(runs[0]["tip_dv"], rel=1e-9)
+
+
+def test_unknown_linear_solver_is_an_error():
+    with pytest.raises(Exception, match="Unknown min_modify solver superlu: use direct, petsc "
+                       "or mumps"):
+        run_script(BEAM, {**COARSE, "solver": "newton", "linear": "superlu"}, read=["tip_dv"])
 
 
 @pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])

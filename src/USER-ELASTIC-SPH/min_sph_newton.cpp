@@ -32,6 +32,7 @@
 #include "output.h"
 #include "pair_sph_icb.h"
 #include "sph_linear_solver_eigen.h"
+#include "sph_linear_solver_petsc.h"
 #include "sph_newton_dofs.h"
 #include "sph_newton_hessian.h"
 #include "thermo.h"
@@ -53,13 +54,14 @@ constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
+enum SolverChoice { DIRECT, PETSC, MUMPS };
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
-    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO), nroundoff(0),
-    roundoff_fnorm(0.0)
+    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO), backend(DIRECT),
+    nroundoff(0), roundoff_fnorm(0.0)
 {
 }
 
@@ -73,13 +75,34 @@ void MinSPHNewton::init()
 {
   MinLineSearch::init();
   check_style();
-  solver = std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
+  if (backend == DIRECT)
+    solver = std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
+  else
+    solver = std::make_unique<PetscLinearSolver>(
+        lmp, backend == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
 }
 
 /* ---------------------------------------------------------------------- */
 
 int MinSPHNewton::modify_param(int narg, char **arg)
 {
+  if (strcmp(arg[0], "solver") == 0) {
+    if (narg < 2) utils::missing_cmd_args(FLERR, "min_modify solver", error);
+    if (strcmp(arg[1], "direct") == 0)
+      backend = DIRECT;
+    else if (strcmp(arg[1], "petsc") == 0)
+      backend = PETSC;
+    else if (strcmp(arg[1], "mumps") == 0)
+      backend = MUMPS;
+    else
+      error->all(FLERR, "Unknown min_modify solver {}: use direct, petsc or mumps", arg[1]);
+    if (backend != DIRECT && !PetscLinearSolver::available())
+      error->all(FLERR,
+                 "Min_modify solver {}: this LAMMPS was built without PETSc (install it, e.g. "
+                 "Debian's libpetsc-real-dev, and rebuild; or use solver direct)",
+                 arg[1]);
+    return 2;
+  }
   if (strcmp(arg[0], "factor") != 0) return 0;
   if (narg < 2) utils::missing_cmd_args(FLERR, "min_modify factor", error);
   if (strcmp(arg[1], "auto") == 0)
@@ -139,7 +162,8 @@ int MinSPHNewton::iterate(int maxiter)
   nroundoff = 0;
   const int stop = newton_loop(maxiter);
   const std::string summary = solver->summary();
-  if (!summary.empty()) utils::logmesg(lmp, "  min_style sph/newton: {}\n", summary);
+  if (!summary.empty() && comm->me == 0)
+    utils::logmesg(lmp, "  min_style sph/newton: {}\n", summary);
   if (solver->indefinite() && comm->me == 0)
     error->warning(FLERR,
                    "Min_style sph/newton: the Hessian at the last iterate has negative "
@@ -156,6 +180,7 @@ int MinSPHNewton::iterate(int maxiter)
 void MinSPHNewton::start()
 {
   dofs->find(vflag);
+  hessian = std::make_unique<FreeHessian>(atom, *pair, *dofs);
   solver->reset(dofs->nfree());
   if (comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
@@ -175,7 +200,7 @@ int MinSPHNewton::newton_loop(int maxiter)
     const bigint ntimestep = ++update->ntimestep;
     niter++;
 
-    solver->assemble(FreeHessian(*pair, *dofs));
+    solver->assemble(*hessian);
     dofs->free_force(force_share);
     solver->solve(force_share, step);
     dofs->expand(step, h);

@@ -28,6 +28,7 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 namespace LAMMPS_NS {
 
 namespace SPHElastic {
+  class FreeHessian;
   class LinearSolver;
   class NewtonDofs;
 }    // namespace SPHElastic
@@ -51,8 +52,10 @@ class MinSPHNewton : public MinLineSearch {
  private:
   class PairSPHICB *pair;
   std::unique_ptr<SPHElastic::NewtonDofs> dofs;
+  std::unique_ptr<SPHElastic::FreeHessian> hessian;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
   int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT
+  int backend;                              // min_modify solver: DIRECT, PETSC or MUMPS
   std::vector<double> force_share, step;    // on the free coordinates
   int nroundoff;                            // line searches in a row that ended below round-off
   double roundoff_fnorm;                    // |f|^2 when that run began

@@ -51,13 +51,13 @@ static const char cite_pair_sph_icb[] =
 
 /* ---------------------------------------------------------------------- */
 
-enum { COMM_DEFGRAD, COMM_QSTRESS };
+enum { COMM_DEFGRAD, COMM_QSTRESS, COMM_PRODUCT_V, COMM_PRODUCT_Q };
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
-    gcompact(nullptr)
+    gcompact(nullptr), vproduct(nullptr), dqstress(nullptr), ncompute(0), tangents_stamp(-1)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
@@ -82,6 +82,8 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(qstress);
   memory->destroy(jlocal);
   memory->destroy(gcompact);
+  memory->destroy(vproduct);
+  memory->destroy(dqstress);
 }
 
 /* ----------------------------------------------------------------------
@@ -166,6 +168,7 @@ void PairSPHICB::compute(int eflag, int vflag)
   grow_output();
   grow_work();
   refresh_partner_indices();
+  ncompute++;
 
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
@@ -288,6 +291,12 @@ void PairSPHICB::grow_work()
     memory->destroy(qstress);
     memory->create(defgrad, nmax_work, 9, "pair:defgrad");
     memory->create(qstress, nmax_work, 9, "pair:qstress");
+    if (vproduct) {
+      memory->destroy(vproduct);
+      memory->destroy(dqstress);
+      memory->create(vproduct, nmax_work, 3, "pair:vproduct");
+      memory->create(dqstress, nmax_work, 9, "pair:dqstress");
+    }
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -632,6 +641,183 @@ void PairSPHICB::hourglass_hessian(int i, const int *jl, const HessianSink &add)
   }
 }
 
+/* ----------------------------------------------------------------------
+   each owned atom's tangent dP/dF at the positions of the last compute(),
+   kept for the products until the next compute()
+------------------------------------------------------------------------- */
+
+void PairSPHICB::refresh_tangents()
+{
+  if (tangents_stamp == ncompute) return;
+  const int nlocal = atom->nlocal;
+  tangents.assign(81 * (size_t) nlocal, 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    if (atom->mask[i] & mirror_groupbit) continue;    // no strain energy
+    double F[3][3];
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
+    SPHElastic::Tangent A;
+    materials[atom->type[i]]->tangent(F, kinematics, A);
+    std::memcpy(&tangents[81 * (size_t) i], &A[0][0][0][0], 81 * sizeof(double));
+  }
+  tangents_stamp = ncompute;
+}
+
+/* ----------------------------------------------------------------------
+   K v as the force is computed, linearised: dF_i = sum_j (v_j - v_i) (x) g_ij,
+   dQ_i = V_i A_i : dF_i, (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji); with
+   hourglass control the spring part of hessian(), sum_j k_ij (v_i - v_j).
+   About the cost of one force computation, and no matrix of two-hop
+   blocks (hundreds per atom in 3d) to store.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::hessian_product(const double *v, double *kv)
+{
+  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: the Hessian product needs forces computed since the last "
+               "neighbor list build");
+  if (!vproduct) {
+    memory->create(vproduct, nmax_work, 3, "pair:vproduct");
+    memory->create(dqstress, nmax_work, 9, "pair:dqstress");
+  }
+  refresh_tangents();
+  const int nlocal = atom->nlocal;
+  const int mp = partners->maxpartner;
+  const bool two_d = domain->dimension == 2;
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < 3; a++) vproduct[i][a] = v[3 * i + a];
+  comm_what = COMM_PRODUCT_V;
+  comm->forward_comm(this);
+
+  for (int i = 0; i < nlocal; i++) {
+    if (two_d)
+      product_stress_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4]);
+    else
+      product_stress_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
+  }
+  comm_what = COMM_PRODUCT_Q;
+  comm->forward_comm(this);
+
+  for (int i = 0; i < nlocal; i++) {
+    double *out = &kv[3 * i];
+    out[0] = out[1] = out[2] = 0.0;
+    if (two_d)
+      product_force_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4], out);
+    else
+      product_force_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6], out);
+  }
+
+  // the springs of hourglass_hessian(): each pair is visited from both atoms
+  if (hourglass > 0.0) {
+    const int *type = atom->type;
+    for (int i = 0; i < nlocal; i++) {
+      const double *pd = partners->pdata[i];
+      const int *jl = &jlocal[i * mp];
+      for (int k = 0; k < partners->npartner[i]; k++) {
+        const int j = jl[k];
+        const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+            pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+        for (int a = 0; a < 3; a++) kv[3 * i + a] += kij * (vproduct[i][a] - vproduct[j][a]);
+      }
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <int DIM> void PairSPHICB::product_stress_pass(int i, const int *jl, const double *gc)
+{
+  double *dQ = dqstress[i];
+  for (int a = 0; a < 9; a++) dQ[a] = 0.0;
+  if (atom->mask[i] & mirror_groupbit) return;
+
+  const double *vi = vproduct[i];
+  double dF[DIM][DIM] = {};
+  for (int k = 0; k < partners->npartner[i]; k++) {
+    const double *vj = vproduct[jl[k]];
+    const double *g = &gc[k * 2 * DIM];
+    for (int a = 0; a < DIM; a++) {
+      const double dva = vj[a] - vi[a];
+      for (int b = 0; b < DIM; b++) dF[a][b] += dva * g[b];
+    }
+  }
+  const double *A = &tangents[81 * (size_t) i];    // A[a][J][b][L]
+  const double volume = atom->vfrac[i];
+  for (int a = 0; a < DIM; a++)
+    for (int J = 0; J < DIM; J++) {
+      const double *AaJ = &A[27 * a + 9 * J];
+      double sum = 0.0;
+      for (int b = 0; b < DIM; b++)
+        for (int L = 0; L < DIM; L++) sum += AaJ[3 * b + L] * dF[b][L];
+      dQ[3 * a + J] = volume * sum;
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <int DIM>
+void PairSPHICB::product_force_pass(int i, const int *jl, const double *gc, double *kv)
+{
+  const double *dQi = dqstress[i];
+  for (int k = 0; k < partners->npartner[i]; k++) {
+    const double *gij = &gc[k * 2 * DIM];
+    const double *gji = gij + DIM;
+    const double *dQj = dqstress[jl[k]];
+    for (int a = 0; a < DIM; a++) {
+      double qi = 0.0, qj = 0.0;
+      for (int b = 0; b < DIM; b++) {
+        qi += dQi[3 * a + b] * gij[b];
+        qj += dQj[3 * a + b] * gji[b];
+      }
+      kv[a] -= qi - qj;
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   axial springs k_ij e e^T (e the current bond direction) with a tenth of
+   that isotropically so that no bond pattern leaves a mechanism;
+   k_ij = E_ij w_ij, the hourglass weight, so that the matrix has K's
+   scale.  Each pair is sent from both atoms, half each.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::spring_matrix(const HessianSink &add) const
+{
+  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: the spring matrix needs forces computed since the last "
+               "neighbor list build");
+  constexpr double ISOTROPIC = 0.1;
+  const int dim = domain->dimension;
+  const int mp = partners->maxpartner;
+  const double *const *const x = atom->x;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *pd = partners->pdata[i];
+    for (int k = 0; k < partners->npartner[i]; k++) {
+      const int j = jlocal[i * mp + k];
+      const double kij = 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+          pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+      double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+      const double r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+      if (r > 0.0)
+        for (double &c : e) c /= r;
+      double plus[3][3] = {}, minus[3][3] = {};
+      for (int a = 0; a < dim; a++)
+        for (int b = 0; b < dim; b++) {
+          plus[a][b] = 0.5 * kij * (e[a] * e[b] + (a == b ? ISOTROPIC : 0.0));
+          minus[a][b] = -plus[a][b];
+        }
+      add(tag[i], tag[i], plus);
+      add(tag[j], tag[j], plus);
+      add(tag[i], tag[j], minus);
+      add(tag[j], tag[i], minus);
+    }
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairSPHICB::write_restart_settings(FILE *fp)
@@ -661,10 +847,12 @@ void PairSPHICB::read_restart_settings(FILE *fp)
 
 int PairSPHICB::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
 {
-  double **src = (comm_what == COMM_DEFGRAD) ? defgrad : qstress;
+  // a displacement increment needs no periodic image shift
+  const int width = (comm_what == COMM_PRODUCT_V) ? 3 : 9;
+  double **src = forward_array();
   int m = 0;
   for (int ii = 0; ii < n; ii++)
-    for (int a = 0; a < 9; a++) buf[m++] = src[list[ii]][a];
+    for (int a = 0; a < width; a++) buf[m++] = src[list[ii]][a];
   return m;
 }
 
@@ -672,16 +860,35 @@ int PairSPHICB::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*
 
 void PairSPHICB::unpack_forward_comm(int n, int first, double *buf)
 {
-  double **dst = (comm_what == COMM_DEFGRAD) ? defgrad : qstress;
+  const int width = (comm_what == COMM_PRODUCT_V) ? 3 : 9;
+  double **dst = forward_array();
   int m = 0;
   for (int i = first; i < first + n; i++)
-    for (int a = 0; a < 9; a++) dst[i][a] = buf[m++];
+    for (int a = 0; a < width; a++) dst[i][a] = buf[m++];
+}
+
+/* ---------------------------------------------------------------------- */
+
+double **PairSPHICB::forward_array() const
+{
+  switch (comm_what) {
+    case COMM_DEFGRAD:
+      return defgrad;
+    case COMM_PRODUCT_V:
+      return vproduct;
+    case COMM_PRODUCT_Q:
+      return dqstress;
+    default:
+      return qstress;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
 double PairSPHICB::memory_usage()
 {
-  return PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
+  double bytes = PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
       (double) maxlocal * (sizeof(int) + 6 * sizeof(double));
+  if (vproduct) bytes += (double) nmax_work * 12 * sizeof(double);
+  return bytes + (double) tangents.capacity() * sizeof(double);
 }

@@ -23,6 +23,7 @@ PairStyle(sph/icb,PairSPHICB);
 #include "pair_sph_elastic.h"
 
 #include <functional>
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -50,6 +51,15 @@ class PairSPHICB : public PairSPHElastic {
   // true if hessian() is exact (without hourglass control); else it is an SPD approximation
   bool hessian_is_exact() const { return hourglass == 0.0; }
   void hessian(const HessianSink &) const;
+  // K v with K the matrix of hessian(), computed as the force is, in two
+  // sweeps, without assembling K: v and kv hold 3 values per owned atom.
+  // Collective (v and the stress increment reach the ghosts by forward comm)
+  void hessian_product(const double *v, double *kv);
+  // the blocks of a one-hop matrix with K's scale and low-frequency
+  // behaviour, symmetric positive semi-definite with the rigid motions as
+  // its null space: axial springs along the current bonds (an elastic body
+  // of Poisson ratio 1/4), a preconditioner for K that is ~10x sparser
+  void spring_matrix(const HessianSink &) const;
   const int *partner_indices(int) const override;
   // number of inverted (det F <= 0) atoms at the last force computation,
   // over all ranks, with the ID, det F and type of one of them; collective
@@ -75,6 +85,13 @@ class PairSPHICB : public PairSPHElastic {
   double inverted_det;    // its det F
   int inverted_type;      // and type
   double internal_fsq;    // sum of |f_i|^2 of the pair forces
+  // hessian_product(): v and V A:dF on the ghosts too, and each owned atom's
+  // tangent A = dP/dF at the last compute() (81 doubles), computed once
+  double **vproduct;
+  double **dqstress;
+  std::vector<double> tangents;
+  bigint ncompute;          // compute() calls so far
+  bigint tangents_stamp;    // ncompute when tangents were filled
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;
@@ -91,6 +108,10 @@ class PairSPHICB : public PairSPHElastic {
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
   void hourglass_hessian(int i, const int *jl, const HessianSink &) const;
+  void refresh_tangents();
+  double **forward_array() const;
+  template <int DIM> void product_stress_pass(int i, const int *jl, const double *gc);
+  template <int DIM> void product_force_pass(int i, const int *jl, const double *gc, double *kv);
 };
 
 }    // namespace LAMMPS_NS

@@ -41,7 +41,8 @@ namespace SPHElastic {
     // a new problem of nfree unknowns (the free coordinates were numbered
     // afresh): forget the matrix, its pattern and its factorisation
     virtual void reset(int nfree) = 0;
-    // K from the Hessian at the current positions
+    // K from the Hessian at the current positions (a matrix-free backend
+    // keeps the reference: it stays valid until the next assemble())
     virtual void assemble(const FreeHessian &) = 0;
     // the step from this rank's share of the force (length nfree, the
     // shares summing to the force); step (length nfree) is the same on

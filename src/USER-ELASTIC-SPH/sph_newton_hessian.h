@@ -14,8 +14,12 @@
 #ifndef LMP_SPH_NEWTON_HESSIAN_H
 #define LMP_SPH_NEWTON_HESSIAN_H
 
+#include "atom.h"
 #include "pair_sph_icb.h"
 #include "sph_newton_dofs.h"
+
+#include <algorithm>
+#include <vector>
 
 namespace LAMMPS_NS {
 namespace SPHElastic {
@@ -27,12 +31,16 @@ namespace SPHElastic {
      and the entries are to be summed).  T maps the free coordinates to all
      coordinates: held ones drop out, a mirror atom's follow its source's
      with the mirror's sign.  A linear-solver backend assembles its matrix
-     from these entries, in its own storage.
+     from these entries, in its own storage, or multiplies by it without
+     a matrix; the object lives as long as the minimization.
   ------------------------------------------------------------------------- */
 
   class FreeHessian {
    public:
-    FreeHessian(const PairSPHICB &pair, const NewtonDofs &dofs) : pair(pair), dofs(dofs) {}
+    FreeHessian(class Atom *atom, PairSPHICB &pair, const NewtonDofs &dofs) :
+        atom(atom), pair(pair), dofs(dofs)
+    {
+    }
 
     int size() const { return dofs.nfree(); }
 
@@ -43,26 +51,86 @@ namespace SPHElastic {
     template <typename Add> bool for_each_lower_entry(Add &&add) const
     {
       bool going = true;
-      const int dim = dofs.dimension();
       pair.hessian([&](tagint k, tagint l, const double(*block)[3]) {
-        for (int a = 0; a < dim && going; a++) {
-          const bigint kdof = (k - 1) * dim + a;
-          const int row = dofs.index(kdof);
-          if (row < 0) continue;
-          for (int b = 0; b < dim && going; b++) {
-            const bigint ldof = (l - 1) * dim + b;
-            const int col = dofs.index(ldof);
-            if (col < 0 || col > row) continue;
-            going = add(row, col, dofs.sign(kdof) * dofs.sign(ldof) * block[a][b]);
-          }
-        }
+        if (going) going = map_lower(k, l, block, add);
       });
       return going;
     }
 
+    // the same for T^T S T, S the one-hop spring matrix of pair sph/icb
+    // (a preconditioner for the matrix-free product below)
+    template <typename Add> void for_each_lower_spring_entry(Add &&add) const
+    {
+      pair.spring_matrix([&](tagint k, tagint l, const double(*block)[3]) {
+        map_lower(k, l, block, add);
+      });
+    }
+
+    // the free coordinates that this rank's owned atoms follow, sorted
+    std::vector<int> needed_indices() const
+    {
+      std::vector<int> needed;
+      const tagint *tag = atom->tag;
+      const int dim = dofs.dimension();
+      for (int i = 0; i < atom->nlocal; i++)
+        for (int a = 0; a < dim; a++) {
+          const int r = dofs.index((tag[i] - 1) * dim + a);
+          if (r >= 0) needed.push_back(r);
+        }
+      std::sort(needed.begin(), needed.end());
+      needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+      return needed;
+    }
+
+    // y = T^T K T v without K: value(r) gives v at a free index of
+    // needed_indices(), add(r, y_share) receives this rank's share of y.
+    // Collective
+    template <typename Value, typename Add> void product(Value &&value, Add &&add) const
+    {
+      const tagint *tag = atom->tag;
+      const int nlocal = atom->nlocal;
+      const int dim = dofs.dimension();
+      work_in.assign(3 * (size_t) nlocal, 0.0);
+      work_out.assign(3 * (size_t) nlocal, 0.0);
+      for (int i = 0; i < nlocal; i++)
+        for (int a = 0; a < dim; a++) {
+          const bigint dof = (tag[i] - 1) * dim + a;
+          const int r = dofs.index(dof);
+          if (r >= 0) work_in[3 * i + a] = dofs.sign(dof) * value(r);
+        }
+      pair.hessian_product(work_in.data(), work_out.data());
+      for (int i = 0; i < nlocal; i++)
+        for (int a = 0; a < dim; a++) {
+          const bigint dof = (tag[i] - 1) * dim + a;
+          const int r = dofs.index(dof);
+          if (r >= 0) add(r, dofs.sign(dof) * work_out[3 * i + a]);
+        }
+    }
+
    private:
-    const PairSPHICB &pair;
+    Atom *atom;
+    PairSPHICB &pair;
     const NewtonDofs &dofs;
+    mutable std::vector<double> work_in, work_out;
+
+    // the lower-triangle entries of the block (k, l) on the free coordinates
+    template <typename Add>
+    bool map_lower(tagint k, tagint l, const double (*block)[3], Add &add) const
+    {
+      const int dim = dofs.dimension();
+      for (int a = 0; a < dim; a++) {
+        const bigint kdof = (k - 1) * dim + a;
+        const int row = dofs.index(kdof);
+        if (row < 0) continue;
+        for (int b = 0; b < dim; b++) {
+          const bigint ldof = (l - 1) * dim + b;
+          const int col = dofs.index(ldof);
+          if (col < 0 || col > row) continue;
+          if (!add(row, col, dofs.sign(kdof) * dofs.sign(ldof) * block[a][b])) return false;
+        }
+      }
+      return true;
+    }
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS

@@ -1,0 +1,479 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   Contributing author: USER-ELASTIC-SPH developers
+------------------------------------------------------------------------- */
+
+#include "sph_linear_solver_petsc.h"
+
+#include "comm.h"
+#include "error.h"
+#include "sph_newton_hessian.h"
+
+#ifdef ESPH_HAVE_PETSC
+#include <petscksp.h>
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace SPHElastic;
+
+#ifdef ESPH_HAVE_PETSC
+
+namespace {
+constexpr double RTOL = 1.0e-8;           // relative residual of an iterative Newton step
+constexpr int MAXIT = 5000;               // Krylov iterations per solve
+constexpr double FIRST_SHIFT = 1.0e-8;    // of the largest diagonal entry; then x10 each time
+constexpr int MAXSHIFT = 14;              // shifts tried before giving up (up to 1e5 x diagonal)
+
+/* ----------------------------------------------------------------------
+   a parallel AIJ matrix given as coordinate entries, each rank its own
+   (PETSc sums repeated entries and moves those of other ranks' rows).
+   The pattern is set once and again only when the entries come in
+   another order, which a hash of the (row, col) sequence tells.
+------------------------------------------------------------------------- */
+
+struct CooMatrix {
+  Mat M = nullptr;
+  uint64_t pattern_hash = 0;
+  size_t pattern_size = 0;
+  std::vector<PetscInt> rows, cols;
+  std::vector<PetscScalar> values;
+
+  void clear()
+  {
+    rows.clear();
+    cols.clear();
+    values.clear();
+  }
+  // both triangles from a lower-triangle entry
+  void add_symmetric(PetscInt row, PetscInt col, double value)
+  {
+    rows.push_back(row);
+    cols.push_back(col);
+    values.push_back(value);
+    if (row != col) {
+      rows.push_back(col);
+      cols.push_back(row);
+      values.push_back(value);
+    }
+  }
+  void destroy()
+  {
+    if (M) MatDestroy(&M);
+    pattern_size = 0;
+  }
+  // returns true if the matrix (and so its layout) was created afresh
+  bool set(MPI_Comm world, PetscInt nlocal, PetscInt n)
+  {
+    uint64_t hash = 1469598103934665603ULL;    // FNV-1a
+    for (size_t e = 0; e < rows.size(); e++) {
+      hash = (hash ^ static_cast<uint64_t>(rows[e])) * 1099511628211ULL;
+      hash = (hash ^ static_cast<uint64_t>(cols[e])) * 1099511628211ULL;
+    }
+    int same = (M != nullptr && hash == pattern_hash && rows.size() == pattern_size) ? 1 : 0;
+    int all_same = 0;
+    MPI_Allreduce(&same, &all_same, 1, MPI_INT, MPI_MIN, world);
+    if (!all_same) {
+      destroy();
+      MatCreate(world, &M);
+      MatSetSizes(M, nlocal, nlocal, n, n);
+      MatSetType(M, MATAIJ);
+      MatSetOptionsPrefix(M, "sph_");
+      MatSetFromOptions(M);
+      MatSetPreallocationCOO(M, rows.size(), rows.data(), cols.data());
+      MatSetOption(M, MAT_SYMMETRIC, PETSC_TRUE);
+      pattern_hash = hash;
+      pattern_size = rows.size();
+    }
+    MatSetValuesCOO(M, values.data(), INSERT_VALUES);
+    clear();
+    return !all_same;
+  }
+};
+}    // namespace
+
+struct PetscLinearSolver::Objects {
+  CooMatrix assembled;    // the Hessian (MUMPS) or the spring matrix (matrix-free)
+  Mat shell = nullptr;    // matrix-free: the Hessian as its product
+  Vec rhs = nullptr, x = nullptr, x_all = nullptr;
+  VecScatter to_all = nullptr;
+  KSP ksp = nullptr;
+  // matrix-free: the free coordinates this rank's atoms follow, their
+  // values gathered for a product, and the product's entries
+  const FreeHessian *hessian = nullptr;
+  std::vector<int> needed;
+  Vec v_needed = nullptr;
+  VecScatter to_needed = nullptr;
+  std::vector<PetscInt> product_rows;
+  std::vector<PetscScalar> product_values;
+  double shell_shift = 0.0;
+
+  Mat hessian_matrix() const { return shell ? shell : assembled.M; }
+  void destroy_layout()
+  {
+    if (ksp) KSPDestroy(&ksp);
+    if (to_all) VecScatterDestroy(&to_all);
+    if (x_all) VecDestroy(&x_all);
+    if (x) VecDestroy(&x);
+    if (rhs) VecDestroy(&rhs);
+    if (shell) MatDestroy(&shell);
+  }
+  void destroy_needed()
+  {
+    if (to_needed) VecScatterDestroy(&to_needed);
+    if (v_needed) VecDestroy(&v_needed);
+  }
+  void destroy()
+  {
+    destroy_needed();
+    destroy_layout();
+    assembled.destroy();
+  }
+};
+
+/* ---------------------------------------------------------------------- */
+
+static PetscErrorCode shell_product(Mat K, Vec v, Vec y);
+
+static void petsc_check(Error *error, PetscErrorCode code, const char *what)
+{
+  if (code != 0)
+    error->one(FLERR, Error::NOLASTLINE, "Min_style sph/newton: PETSc {} failed (error code {})",
+               what, static_cast<int>(code));
+}
+
+/* ---------------------------------------------------------------------- */
+
+PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
+    LinearSolver(lmp), p(new Objects), method(method), n(0), negative_curvature(false), nsolve(0),
+    niterations(0), nshifted(0), nminres(0), setup_time(0.0), solve_time(0.0)
+{
+  PetscBool initialized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  if (!initialized) {
+    // PETSc works on the ranks LAMMPS runs on; MPI is LAMMPS's to finalise
+    PETSC_COMM_WORLD = world;
+    petsc_check(error, PetscInitializeNoArguments(), "initialisation");
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+PetscLinearSolver::~PetscLinearSolver()
+{
+  p->destroy();
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool PetscLinearSolver::available()
+{
+  return true;
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::string PetscLinearSolver::name() const
+{
+  return method == MUMPS ? "PETSc with MUMPS's parallel LDL^T"
+                         : "PETSc CG on the Hessian product, algebraic multigrid (BoomerAMG) on "
+                           "the spring matrix, distributed";
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PetscLinearSolver::reset(int nfree)
+{
+  p->destroy();
+  n = nfree;
+  negative_curvature = false;
+  nsolve = niterations = nshifted = nminres = 0;
+  setup_time = solve_time = 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   the rows of the free coordinates are split among the ranks in blocks,
+   as PETSc's default layout does.  MUMPS: the Hessian's entries, with an
+   explicit diagonal on the rows a rank owns (a shift needs it).  Matrix
+   free: the spring matrix for the preconditioner, the Hessian a shell
+   whose product the pair computes.
+------------------------------------------------------------------------- */
+
+void PetscLinearSolver::assemble(const FreeHessian &hessian)
+{
+  const double start = MPI_Wtime();
+  Objects &o = *p;
+  PetscInt nlocal = PETSC_DECIDE, global = n;
+  PetscSplitOwnership(world, &nlocal, &global);
+  PetscInt first = 0;
+  MPI_Scan(&nlocal, &first, 1, MPIU_INT, MPI_SUM, world);
+  first -= nlocal;
+
+  CooMatrix &coo = o.assembled;
+  auto add = [&](int row, int col, double value) {
+    coo.add_symmetric(row, col, value);
+    return true;
+  };
+  if (method == MUMPS)
+    hessian.for_each_lower_entry(add);
+  else
+    hessian.for_each_lower_spring_entry(add);
+  for (PetscInt r = first; r < first + nlocal; r++) coo.add_symmetric(r, r, 0.0);
+  const bool new_layout = coo.set(world, nlocal, n);
+
+  if (new_layout || !o.x) {
+    o.destroy_layout();
+    if (method == MATRIX_FREE) {
+      MatCreateShell(world, nlocal, nlocal, n, n, &o, &o.shell);
+      MatShellSetOperation(o.shell, MATOP_MULT, reinterpret_cast<void (*)(void)>(shell_product));
+      MatSetOption(o.shell, MAT_SYMMETRIC, PETSC_TRUE);
+    }
+    MatCreateVecs(o.assembled.M, &o.x, &o.rhs);
+    VecScatterCreateToAll(o.x, &o.to_all, &o.x_all);
+    create_solver();
+  }
+  o.shell_shift = 0.0;
+
+  if (method == MATRIX_FREE) {
+    o.hessian = &hessian;
+    // atoms may have moved between ranks since the last iteration
+    o.destroy_needed();
+    o.needed = hessian.needed_indices();
+    IS wanted;
+    ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), o.needed.data(),
+                    PETSC_COPY_VALUES, &wanted);
+    VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), &o.v_needed);
+    VecScatterCreate(o.x, wanted, o.v_needed, nullptr, &o.to_needed);
+    ISDestroy(&wanted);
+  }
+  KSPSetOperators(o.ksp, o.hessian_matrix(), o.assembled.M);
+  setup_time += MPI_Wtime() - start;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PetscLinearSolver::create_solver()
+{
+  Objects &o = *p;
+  KSPCreate(world, &o.ksp);
+  KSPSetOptionsPrefix(o.ksp, "sph_");
+  PC pc;
+  KSPGetPC(o.ksp, &pc);
+  if (method == MUMPS) {
+    KSPSetType(o.ksp, KSPPREONLY);
+    PCSetType(pc, PCCHOLESKY);
+    PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+  } else {
+    // BoomerAMG: PETSc's own GAMG meets an indefinite preconditioner on
+    // the spring matrix of the clamped beam (measured), hypre's does not
+    KSPSetType(o.ksp, KSPCG);
+    PCSetType(pc, PCHYPRE);
+    PCHYPRESetType(pc, "boomeramg");
+  }
+  KSPSetTolerances(o.ksp, RTOL, PETSC_DEFAULT, PETSC_DEFAULT, MAXIT);
+  KSPSetFromOptions(o.ksp);
+}
+
+/* ----------------------------------------------------------------------
+   y = K v + shift v: v's entries that this rank's atoms follow are
+   gathered, the pair multiplies, and each rank adds its share of y
+------------------------------------------------------------------------- */
+
+static PetscErrorCode shell_product(Mat K, Vec v, Vec y)
+{
+  PetscLinearSolver::Objects *o = nullptr;
+  MatShellGetContext(K, &o);
+  VecScatterBegin(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
+  const PetscScalar *gathered;
+  VecGetArrayRead(o->v_needed, &gathered);
+  const auto &needed = o->needed;
+  auto value = [&](int r) {
+    return gathered[std::lower_bound(needed.begin(), needed.end(), r) - needed.begin()];
+  };
+  o->product_rows.clear();
+  o->product_values.clear();
+  o->hessian->product(value, [&](int r, double share) {
+    o->product_rows.push_back(r);
+    o->product_values.push_back(share);
+  });
+  VecRestoreArrayRead(o->v_needed, &gathered);
+  VecSet(y, 0.0);
+  VecSetValues(y, static_cast<PetscInt>(o->product_rows.size()), o->product_rows.data(),
+               o->product_values.data(), ADD_VALUES);
+  VecAssemblyBegin(y);
+  VecAssemblyEnd(y);
+  if (o->shell_shift != 0.0) VecAXPY(y, o->shell_shift, v);
+  return 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::string PetscLinearSolver::summary() const
+{
+  const std::string times =
+      fmt::format("{:.3g} s setting up, {:.3g} s solving", setup_time, solve_time);
+  if (method == MUMPS)
+    return fmt::format("{} MUMPS solves, {} shifted; {}", nsolve, nshifted, times);
+  return fmt::format("{} solves, {} Krylov iterations in all, {} by MINRES, {} shifted; {}", nsolve,
+                     niterations, nminres, nshifted, times);
+}
+
+/* ----------------------------------------------------------------------
+   one solve with the given Krylov method: true if it converged to a step
+   that points downhill
+------------------------------------------------------------------------- */
+
+bool PetscLinearSolver::solve_with(const char *ksp_type)
+{
+  Objects &o = *p;
+  if (method == MATRIX_FREE) KSPSetType(o.ksp, ksp_type);
+  KSPSolve(o.ksp, o.rhs, o.x);
+  KSPConvergedReason reason;
+  KSPGetConvergedReason(o.ksp, &reason);
+  PetscInt iterations = 0;
+  KSPGetIterationNumber(o.ksp, &iterations);
+  niterations += iterations;
+  if (reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC)
+    negative_curvature = true;
+  PetscScalar downhill = 0.0;
+  VecDot(o.rhs, o.x, &downhill);
+  if (reason > 0 && !(std::isfinite(downhill) && downhill > 0.0)) negative_curvature = true;
+  return reason > 0 && std::isfinite(downhill) && downhill > 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PetscLinearSolver::shift_diagonal(double amount)
+{
+  Objects &o = *p;
+  if (method == MUMPS) {
+    MatShift(o.assembled.M, amount);
+    KSPSetOperators(o.ksp, o.assembled.M, o.assembled.M);
+  } else {
+    o.shell_shift += amount;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the plain Newton step wherever it points downhill, as the direct solve
+   does (at a symmetric state, such as a straight bar beyond buckling, it
+   converges to the symmetric equilibrium): MUMPS's LDL^T gives it for any
+   K, CG where K is positive definite, MINRES where it is not.  Otherwise
+   the diagonal is shifted until CG's step points downhill.
+------------------------------------------------------------------------- */
+
+void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vector<double> &step)
+{
+  const double start = MPI_Wtime();
+  Objects &o = *p;
+  VecSet(o.rhs, 0.0);
+  for (int r = 0; r < n; r++)
+    if (force_share[r] != 0.0) VecSetValue(o.rhs, r, force_share[r], ADD_VALUES);
+  VecAssemblyBegin(o.rhs);
+  VecAssemblyEnd(o.rhs);
+
+  negative_curvature = false;
+  bool done = solve_with(method == MUMPS ? KSPPREONLY : KSPCG);
+  if (method == MUMPS) {
+    // the negative pivots of the LDL^T are K's negative eigenvalues
+    // (unless PETSc options chose another method)
+    PC pc;
+    KSPGetPC(o.ksp, &pc);
+    PetscBool factored = PETSC_FALSE;
+    PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(pc), &factored, PCCHOLESKY, PCLU, "");
+    MatSolverType package = nullptr;
+    if (factored) PCFactorGetMatSolverType(pc, &package);
+    if (package && strcmp(package, MATSOLVERMUMPS) == 0) {
+      Mat factor;
+      PCFactorGetMatrix(pc, &factor);
+      PetscInt negative = 0;
+      MatMumpsGetInfog(factor, 12, &negative);
+      if (negative > 0) negative_curvature = true;
+    }
+  } else if (!done) {
+    nminres++;
+    done = solve_with(KSPMINRES);
+  }
+
+  int nshift = 0;
+  if (!done) {
+    PetscReal diagonal_max = 0.0;
+    Vec diagonal;
+    MatCreateVecs(o.assembled.M, &diagonal, nullptr);
+    MatGetDiagonal(o.assembled.M, diagonal);
+    VecNorm(diagonal, NORM_INFINITY, &diagonal_max);
+    VecDestroy(&diagonal);
+    double total = 0.0, next = FIRST_SHIFT * diagonal_max;
+    while (!done) {
+      if (++nshift > MAXSHIFT)
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Min_style sph/newton: PETSc's solve finds no downhill step after {} diagonal "
+                   "shifts (up to {:.3g}); the Hessian may be singular (a body free to move) or "
+                   "the run unstable",
+                   MAXSHIFT, total);
+      shift_diagonal(next - total);
+      total = next;
+      next *= 10.0;
+      done = solve_with(KSPCG);
+    }
+    nshifted++;
+  }
+  if (method == MATRIX_FREE) KSPSetType(o.ksp, KSPCG);
+  nsolve++;
+
+  VecScatterBegin(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
+  VecScatterEnd(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
+  const PetscScalar *all;
+  VecGetArrayRead(o.x_all, &all);
+  step.assign(all, all + n);
+  VecRestoreArrayRead(o.x_all, &all);
+  solve_time += MPI_Wtime() - start;
+}
+
+#else    // built without PETSc
+
+struct PetscLinearSolver::Objects {};
+
+PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
+    LinearSolver(lmp), method(method), n(0), negative_curvature(false), nsolve(0), niterations(0),
+    nshifted(0), nminres(0), setup_time(0.0), solve_time(0.0)
+{
+  error->all(FLERR, Error::NOLASTLINE,
+             "Min_modify solver petsc: this LAMMPS was built without PETSc (install it, e.g. "
+             "Debian's libpetsc-real-dev, and rebuild)");
+}
+PetscLinearSolver::~PetscLinearSolver() = default;
+bool PetscLinearSolver::available()
+{
+  return false;
+}
+std::string PetscLinearSolver::name() const
+{
+  return {};
+}
+void PetscLinearSolver::reset(int) {}
+void PetscLinearSolver::assemble(const FreeHessian &) {}
+void PetscLinearSolver::solve(const std::vector<double> &, std::vector<double> &) {}
+std::string PetscLinearSolver::summary() const
+{
+  return {};
+}
+
+#endif
