@@ -101,13 +101,13 @@ def main(argv=None) -> int:
     val.add_argument("--loads", default=",".join(f"{x:g}" for x in theory.PAPER_BEAM_LOADS),
                      help="comma-separated beam loads of Table 1 in N")
     val.add_argument("--out", default="validate-out", help="folder for JSON and PNG output")
-    # pk1 is the exact gradient of the strain energy, which minimisation needs;
-    # corotated (the paper's measure) reaches equilibrium through --route dyn
+    # pk1 is the exact gradient of the strain energy; corotated (the paper's
+    # measure) has none, and min_style sph/newton treats it by Newton-Krylov
     val.add_argument("--stress", default="pk1", choices=["corotated", "pk1"])
     val.add_argument("--route", default="min", choices=["min", "dyn"])
     val.add_argument("--solver", default="newton", choices=["newton", "cg"],
-                     help="minimiser of the min route: newton = min_style sph/newton (stress pk1 "
-                          "only), cg = conjugate gradients (default: %(default)s)")
+                     help="minimiser of the min route: newton = min_style sph/newton (Newton-Krylov "
+                          "for corotated), cg = conjugate gradients (default: %(default)s)")
     val.add_argument("--hourglass", type=float, default=0.0)
     val.add_argument("--variants", default="linear/fixed,default",
                      help="comma-separated schemes: linear/fixed (the paper's), default (quadratic "
@@ -169,7 +169,7 @@ def main(argv=None) -> int:
                                          "damped dynamics, against its converged answer")
     sta.add_argument("--dx", type=float, default=0.001, help="particle spacing in m (0.001)")
     sta.add_argument("--np", default="1,2", help="comma-separated MPI rank counts (1,2)")
-    sta.add_argument("--routes", default="newton,newton-loose,cg,dyn",
+    sta.add_argument("--routes", default="newton,newton-loose,cg,dyn,newton-corotated",
                      help="comma-separated: " + ", ".join(statics.STATICS_ROUTES))
     sta.add_argument("--out", default="speed-out", help="output folder (speed-out)")
     sta.set_defaults(func=cmd_statics)

@@ -57,8 +57,8 @@ class Runner:
                  hourglass: float = 0.0, progress=print, solver: str = "newton"):
         self.nprocs, self.stress, self.progress = nprocs, stress, progress
         self.route, self.hourglass = route, hourglass
-        # min_style sph/newton needs the energy of stress pk1; corotated minimises with CG
-        self.solver = solver if stress == "pk1" else "cg"
+        # min_style sph/newton: pk1 by its energy, corotated by Newton-Krylov
+        self.solver = solver
         self.cache: dict = {}
 
     def tip(self, problem: str, load: float, dx: float, variant: str, **extra) -> TipResult:

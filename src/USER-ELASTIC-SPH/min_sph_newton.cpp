@@ -31,6 +31,7 @@
 #include "modify.h"
 #include "output.h"
 #include "pair_sph_icb.h"
+#include "sph_krylov.h"
 #include "sph_linear_solver_eigen.h"
 #include "sph_linear_solver_petsc.h"
 #include "sph_newton_dofs.h"
@@ -39,6 +40,8 @@
 #include "timer.h"
 #include "update.h"
 
+#include <algorithm>
+#include <cfloat>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -53,6 +56,14 @@ constexpr double ROUNDOFF = 1.0e-13;    // relative energy change below round-of
 constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |f| by 10 %
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
+// Newton-Krylov: the forcing term eta (GMRES stops at |J s - f| <= eta |f|)
+// by Eisenstat and Walker's choice 2, eta = 0.9 (|f_k| / |f_k-1|)^2, kept
+// within [ETA_MIN, ETA_MAX]; the products J v come from force differences
+// that move no coordinate by more than FD_RELATIVE times the cutoff
+constexpr double ETA_MAX = 1.0e-2;
+constexpr double ETA_MIN = 1.0e-8;
+constexpr int MAXKRYLOV = 60;
+const double FD_RELATIVE = std::sqrt(DBL_EPSILON);
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
 enum SolverChoice { DIRECT, PETSC, MUMPS };
 }    // namespace
@@ -61,7 +72,7 @@ enum SolverChoice { DIRECT, PETSC, MUMPS };
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO), backend(DIRECT),
-    nroundoff(0), roundoff_fnorm(0.0)
+    nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0), nproducts(0)
 {
 }
 
@@ -128,11 +139,6 @@ void MinSPHNewton::check_style()
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
                "Min_style sph/newton requires pair_style sph/icb (use min_style cg otherwise)");
-  if (!pair->has_energy())
-    error->all(FLERR, Error::NOLASTLINE,
-               "Min_style sph/newton needs an energy whose gradient is the force: use "
-               "pair_style sph/icb stress pk1 (the corotated stress has none; use min_style cg "
-               "with min_modify line forcezero)");
   if (!atom->tag_enable)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires atom IDs");
   if ((double) atom->natoms * domain->dimension > INT_MAX / 2)
@@ -160,11 +166,19 @@ int MinSPHNewton::iterate(int maxiter)
 
   start();
   nroundoff = 0;
-  const int stop = newton_loop(maxiter);
+  nkrylov = nproducts = 0;
+  const int stop = pair->has_energy() ? newton_loop(maxiter) : corotated_loop(maxiter);
   const std::string summary = solver->summary();
   if (!summary.empty() && comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: {}\n", summary);
-  if (solver->indefinite() && comm->me == 0)
+  if (!pair->has_energy() && comm->me == 0)
+    utils::logmesg(lmp,
+                   "  min_style sph/newton: {} GMRES iterations, {} force calls for their "
+                   "products J v\n",
+                   nkrylov, nproducts);
+  // (for the corotated stress the Hessian is only the preconditioner: its
+  // inertia says nothing about the stability of the corotated equilibrium)
+  if (pair->has_energy() && solver->indefinite() && comm->me == 0)
     error->warning(FLERR,
                    "Min_style sph/newton: the Hessian at the last iterate has negative "
                    "eigenvalues: this equilibrium is unstable (a saddle point, such as a straight "
@@ -182,9 +196,17 @@ void MinSPHNewton::start()
   dofs->find(vflag);
   hessian = std::make_unique<FreeHessian>(atom, *pair, *dofs);
   solver->reset(dofs->nfree());
-  if (comm->me == 0)
+  if (comm->me == 0) {
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
                    dofs->nfree(), solver->name());
+    if (!pair->has_energy())
+      utils::logmesg(
+          lmp,
+          "  min_style sph/newton: stress corotated has no energy: from the pk1 "
+          "equilibrium, Newton-Krylov (GMRES on J v by force differences, "
+          "preconditioned by the pk1 Hessian, backtracking on |f|^2; etol is not used)\n");
+  }
+  fd_length = FD_RELATIVE * force->pair->cutforce;
   ecurrent = energy_force(0);
   neval++;
 }
@@ -218,16 +240,7 @@ int MinSPHNewton::newton_loop(int maxiter)
     if (fabs(ecurrent - eprevious) <
         update->etol * 0.5 * (fabs(ecurrent) + fabs(eprevious) + EPS_ENERGY))
       return ETOL;
-    if (update->ftol > 0.0) {
-      double fdotf = 0.0;
-      if (normstyle == MAX)
-        fdotf = fnorm_max();
-      else if (normstyle == INF)
-        fdotf = fnorm_inf();
-      else
-        fdotf = fnorm_sqr();
-      if (fdotf < update->ftol * update->ftol) return FTOL;
-    }
+    if (force_below_ftol()) return FTOL;
 
     if (output->next == ntimestep) {
       timer->stamp();
@@ -236,6 +249,23 @@ int MinSPHNewton::newton_loop(int maxiter)
     }
   }
   return MAXITER;
+}
+
+/* ----------------------------------------------------------------------
+   the minimizer's force-norm test (min_modify norm), false if ftol = 0
+------------------------------------------------------------------------- */
+
+bool MinSPHNewton::force_below_ftol()
+{
+  if (update->ftol <= 0.0) return false;
+  double fdotf = 0.0;
+  if (normstyle == MAX)
+    fdotf = fnorm_max();
+  else if (normstyle == INF)
+    fdotf = fnorm_inf();
+  else
+    fdotf = fnorm_sqr();
+  return fdotf < update->ftol * update->ftol;
 }
 
 /* ----------------------------------------------------------------------
@@ -310,4 +340,193 @@ int MinSPHNewton::line_search(double fdoth)
                      "external load in the energy ('fix_modify ID energy yes')?");
   }
   return ZEROALPHA;
+}
+
+/* ----------------------------------------------------------------------
+   the corotated stress P = R S: Newton-Krylov with |f|^2 as merit
+   function takes tiny steps far from equilibrium (a linear step that
+   bends a beam stretches its fibres; |f| grows though the energy falls),
+   so it starts from the pk1 equilibrium P = F S of the same law, found by
+   the energy Newton loop: the two differ by (F - R) S = R (U - I) S, of
+   the order of the strain times the stress
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::corotated_loop(int maxiter)
+{
+  const int corotated = pair->stress_measure();
+  pair->set_stress_measure(PairSPHICB::PK1);
+  ecurrent = energy_force(0);
+  neval++;
+  const int start_niter = niter;
+  const int stop = newton_loop(maxiter);
+  pair->set_stress_measure(corotated);
+  ecurrent = energy_force(0);
+  neval++;
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "  min_style sph/newton: pk1 equilibrium as the start after {} iterations\n",
+                   niter - start_niter);
+  if (stop == TIMEOUT || stop == MAXEVAL || stop == MAXITER) return stop;
+  if (force_below_ftol()) return FTOL;
+  return newton_krylov_loop(maxiter - (niter - start_niter));
+}
+
+/* ----------------------------------------------------------------------
+   Newton-Krylov for the corotated stress (no energy, J unsymmetric): the
+   pk1 Hessian is assembled and factorised once per iteration and
+   preconditions GMRES on J step = f; the step is shortened by
+   backtracking on |f|^2.  etol has no energy to test: only ftol, maxiter
+   and maxeval stop it.
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::newton_krylov_loop(int maxiter)
+{
+  const LinearMap apply_jacobian = [this](const std::vector<double> &v, std::vector<double> &jv) {
+    jacobian_product(v, jv);
+  };
+  const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
+                                                std::vector<double> &z) {
+    precondition(v, z);
+  };
+  whole_free_force(residual);
+  double phi = 0.0, phi_previous = 0.0, eta = ETA_MAX;
+  for (double value : residual) phi += value * value;
+
+  for (int iter = 0; iter < maxiter; iter++) {
+    if (timer->check_timeout(niter)) return TIMEOUT;
+    const bigint ntimestep = ++update->ntimestep;
+    niter++;
+
+    if (iter > 0) {
+      const double previous_eta = eta;
+      eta = 0.9 * phi / phi_previous;
+      // safeguard: do not let eta drop faster than it converges
+      if (0.9 * previous_eta * previous_eta > 0.1)
+        eta = std::max(eta, 0.9 * previous_eta * previous_eta);
+      eta = std::min(ETA_MAX, std::max(ETA_MIN, eta));
+    }
+
+    // the differences and the line search start from here
+    for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
+    fix_minimize->store_box();
+    solver->assemble(*hessian);
+    const KrylovResult krylov =
+        flexible_gmres(apply_jacobian, apply_preconditioner, residual, step, eta, MAXKRYLOV);
+    nkrylov += krylov.iterations;
+    dofs->expand(step, h);
+
+    eprevious = ecurrent;
+    phi_previous = phi;
+    const int fail = residual_line_search(phi, std::min(krylov.residual, 1.0));
+    if (fail) return fail;
+    phi = 0.0;
+    for (double value : residual) phi += value * value;
+
+    if (neval >= update->max_eval) return MAXEVAL;
+    if (force_below_ftol()) return FTOL;
+
+    if (output->next == ntimestep) {
+      timer->stamp();
+      output->write(ntimestep);
+      timer->stamp(Timer::OUTPUT);
+    }
+  }
+  return MAXITER;
+}
+
+/* ----------------------------------------------------------------------
+   the step h from x0, halved until phi = |f|^2 on the free coordinates
+   drops by the fraction the linear model promises, 2 ARMIJO alpha (1-eta)
+   (Eisenstat-Walker backtracking); leaves residual at the accepted point.
+   Where phi stops falling at round-off the search gives up as the energy
+   line search does.
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::residual_line_search(double phi0, double eta)
+{
+  double alpha = 1.0;
+  int ninverted_trials = 0;
+  for (int k = 0; k < MAXHALVING; k++) {
+    ecurrent = alpha_step(alpha, 1);
+    tagint inverted_id;
+    double inverted_det;
+    int inverted_type;
+    if (pair->count_inverted(inverted_id, inverted_det, inverted_type) > 0) {
+      ninverted_trials++;
+      alpha *= 0.5;
+      continue;
+    }
+    whole_free_force(residual);
+    double phi = 0.0;
+    for (double value : residual) phi += value * value;
+    if (phi <= (1.0 - 2.0 * ARMIJO * alpha * (1.0 - eta)) * phi0) {
+      alpha_final = alpha;
+      return 0;
+    }
+    alpha *= 0.5;
+  }
+  ecurrent = alpha_step(0.0, 1);
+  whole_free_force(residual);
+  alpha_final = 0.0;
+  if (comm->me == 0) {
+    if (ninverted_trials == MAXHALVING)
+      error->warning(FLERR,
+                     "Min_style sph/newton: every step along the Newton direction inverts "
+                     "particles; the load is beyond what the body can carry without turning "
+                     "inside out");
+    else
+      error->warning(FLERR,
+                     "Min_style sph/newton: the force norm {:.8g} does not fall along the "
+                     "Newton-Krylov step: it is at its round-off floor, or the Jacobian's "
+                     "differences are too coarse for it",
+                     sqrt(phi0));
+  }
+  return ZEROALPHA;
+}
+
+/* ----------------------------------------------------------------------
+   J v = (f(x0) - f(x0 + eps v)) / eps on the free coordinates, the
+   largest coordinate change eps max|v| = fd_length: small against the
+   particle spacing, large against the round-off of the force sums
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::jacobian_product(const std::vector<double> &v, std::vector<double> &jv)
+{
+  double vmax = 0.0;
+  for (double value : v) vmax = std::max(vmax, std::fabs(value));
+  jv.assign(v.size(), 0.0);
+  if (vmax == 0.0) return;
+  const double eps = fd_length / vmax;
+  dofs->expand(v, h);
+  alpha_step(eps, 1);
+  nproducts++;
+  whole_free_force(perturbed);
+  for (size_t k = 0; k < v.size(); k++) jv[k] = (residual[k] - perturbed[k]) / eps;
+}
+
+/* ----------------------------------------------------------------------
+   z = H^-1 v by the factorisation of this iteration's Hessian
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::precondition(const std::vector<double> &v, std::vector<double> &z)
+{
+  // the solver sums its right-hand side over the ranks: rank 0 gives all of it
+  if (comm->me == 0)
+    solver->solve(v, z);
+  else {
+    force_share.assign(v.size(), 0.0);
+    solver->solve(force_share, z);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the force on the free coordinates, summed over the ranks, on every rank
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::whole_free_force(std::vector<double> &force)
+{
+  dofs->free_force(force_share);
+  force.resize(force_share.size());
+  MPI_Allreduce(force_share.data(), force.data(), static_cast<int>(force_share.size()), MPI_DOUBLE,
+                MPI_SUM, world);
 }

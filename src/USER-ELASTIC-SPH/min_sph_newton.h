@@ -34,11 +34,15 @@ namespace SPHElastic {
 }    // namespace SPHElastic
 
 /* ----------------------------------------------------------------------
-   Newton's method for pair_style sph/icb stress pk1: each iteration
+   Newton's method for pair_style sph/icb.  With stress pk1 each iteration
    solves H step = f on the free coordinates (SPHElastic::NewtonDofs finds
    them by probing the fixes; SPHElastic::FreeHessian gives H; a
    SPHElastic::LinearSolver assembles and solves it) and shortens the step
-   by backtracking on the energy.
+   by backtracking on the energy.  The corotated stress has no energy and
+   an unsymmetric Jacobian J: Newton-Krylov solves J step = f by flexible
+   GMRES on finite-difference products J v, preconditioned by the pk1
+   Hessian H (the same elastic law and, to first order in the strain, the
+   same Jacobian), and backtracks on |f|^2.
 ------------------------------------------------------------------------- */
 
 class MinSPHNewton : public MinLineSearch {
@@ -59,11 +63,23 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<double> force_share, step;    // on the free coordinates
   int nroundoff;                            // line searches in a row that ended below round-off
   double roundoff_fnorm;                    // |f|^2 when that run began
+  // Newton-Krylov (stress corotated)
+  std::vector<double> residual;     // the whole free force at the iterate, on every rank
+  std::vector<double> perturbed;    // the same at iterate + eps v
+  double fd_length;                 // largest coordinate change of a difference product
+  bigint nkrylov, nproducts;        // GMRES iterations and force calls for J v, this run
 
   void check_style();
   void start();
   int newton_loop(int);
   int line_search(double fdoth);
+  int corotated_loop(int);
+  int newton_krylov_loop(int);
+  int residual_line_search(double phi0, double eta);
+  void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
+  void precondition(const std::vector<double> &v, std::vector<double> &z);
+  void whole_free_force(std::vector<double> &force);
+  bool force_below_ftol();
 };
 
 }    // namespace LAMMPS_NS

@@ -48,6 +48,10 @@ class PairSPHICB : public PairSPHElastic {
   using HessianSink = std::function<void(tagint, tagint, const double (*)[3])>;
   // true if the forces are minus the gradient of the energy (stress pk1)
   bool has_energy() const { return measure == PK1; }
+  // the stress measure of the next force computations; min_style sph/newton
+  // finds the pk1 equilibrium of the same law as a corotated start
+  int stress_measure() const { return measure; }
+  void set_stress_measure(int m) { measure = m; }
   // true if hessian() is exact (without hourglass control); else it is an SPD approximation
   bool hessian_is_exact() const { return hourglass == 0.0; }
   void hessian(const HessianSink &) const;

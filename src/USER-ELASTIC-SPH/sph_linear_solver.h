@@ -46,7 +46,9 @@ namespace SPHElastic {
     virtual void assemble(const FreeHessian &) = 0;
     // the step from this rank's share of the force (length nfree, the
     // shares summing to the force); step (length nfree) is the same on
-    // every rank afterwards
+    // every rank afterwards.  Further solves before the next assemble()
+    // reuse the factorisation (or preconditioner) of the first: Newton-
+    // Krylov applies K^-1 to many vectors
     virtual void solve(const std::vector<double> &force_share, std::vector<double> &step) = 0;
     // true if the last K solved had negative eigenvalues (before any
     // modification): the iterate is near a saddle point, not a minimum

@@ -83,6 +83,8 @@ struct EigenLinearSolver::Matrices {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
   Eigen::Index llt_nnz = -1;
 #endif
+  // which factorisation of the current K the last solve left, if any
+  enum Factor { NONE, LLT, LDLT } factor = NONE;
 
   // On one rank the Hessian comes in the same order from one Newton step to
   // the next (reference partners are fixed; only an atom sort reorders them),
@@ -167,6 +169,7 @@ struct EigenLinearSolver::Matrices {
     }
     llt.factorize(K);
     if (llt.info() != Eigen::Success) return false;
+    factor = LLT;
     x = llt.solve(f);
     return x.allFinite() && f.dot(x) > 0.0;
 #else
@@ -174,6 +177,19 @@ struct EigenLinearSolver::Matrices {
     (void) x;
     return false;
 #endif
+  }
+
+  // x = K^-1 f by the factorisation the last solve made
+  void solve_again(const Eigen::Map<const Eigen::VectorXd> &f, Eigen::Map<Eigen::VectorXd> &x)
+  {
+#ifdef ESPH_HAVE_CHOLMOD
+    if (factor == LLT) {
+      SerialOpenMP serial(!cholmod_threads_allowed());
+      x = llt.solve(f);
+      return;
+    }
+#endif
+    x = ldlt.solve(f);
   }
 };
 
@@ -227,6 +243,7 @@ void EigenLinearSolver::reset(int nfree)
 void EigenLinearSolver::assemble(const FreeHessian &hessian)
 {
   const bool added = comm->nprocs == 1 && m->has_slots() && add_into_pattern(hessian);
+  m->factor = Matrices::NONE;
   nassembly++;
   if (added) {
     nreused++;
@@ -258,7 +275,9 @@ void EigenLinearSolver::solve(const std::vector<double> &force_share, std::vecto
   if (comm->me == 0) {
     auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), n);
     auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), n);
-    if (use_cholmod && m->positive_definite_step(rhs_vec, step_vec))
+    if (m->factor != Matrices::NONE)
+      m->solve_again(rhs_vec, step_vec);
+    else if (use_cholmod && m->positive_definite_step(rhs_vec, step_vec))
       negative_pivots = false;
     else
       solve_with_ldlt(step);
@@ -414,4 +433,5 @@ void EigenLinearSolver::solve_with_ldlt(std::vector<double> &step)
     if (usable) step_vec = m->ldlt.solve(rhs_vec);
     shift *= 10.0;
   }
+  m->factor = Matrices::LDLT;
 }

@@ -1,0 +1,48 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_SPH_KRYLOV_H
+#define LMP_SPH_KRYLOV_H
+
+#include <functional>
+#include <vector>
+
+namespace LAMMPS_NS {
+namespace SPHElastic {
+
+  // y = A x for vectors on the free coordinates; every rank holds the whole
+  // vector, and the maps return the same y on every rank
+  using LinearMap = std::function<void(const std::vector<double> &x, std::vector<double> &y)>;
+
+  struct KrylovResult {
+    int iterations;     // products with A
+    double residual;    // |b - A x| / |b| (Krylov's estimate)
+    bool converged;     // residual <= the tolerance asked for
+  };
+
+  /* ----------------------------------------------------------------------
+     flexible GMRES (Saad 1993) for A x = b, right-preconditioned by an
+     approximate inverse M^-1 that may change from one application to the
+     next (an inner iterative solve), without restarts: stops when the
+     residual is below tol |b| or after maxiter products.  x starts at 0.
+     Works on whole vectors held alike on every rank, so it needs no
+     communication of its own: A and M^-1 do what is needed.
+  ------------------------------------------------------------------------- */
+
+  KrylovResult flexible_gmres(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
+                              const std::vector<double> &b, std::vector<double> &x, double tol,
+                              int maxiter);
+}    // namespace SPHElastic
+}    // namespace LAMMPS_NS
+
+#endif
