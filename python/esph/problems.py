@@ -19,6 +19,7 @@ BEAM = EXAMPLES / "beam" / "in.beam"
 TRUSS = EXAMPLES / "truss" / "in.truss"
 BEAM_TLSPH = EXAMPLES / "beam" / "in.beam_tlsph"
 BEAM3D = EXAMPLES / "beam3d" / "in.beam3d"
+BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
 
 

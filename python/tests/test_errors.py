@@ -90,9 +90,6 @@ CASES = [
     ("reset_sph_reference nogroup", "Could not find reset_sph_reference group ID nogroup"),
     (ICB + "run 0\nreset_sph_reference all", "the reference partners were already built"),
     # min_style sph/newton
-    ("pair_style sph/icb 0.0012 stress corotated\npair_coeff * * 1e9 0.3\n"
-     "fix r all sph/rotation\nmin_style sph/newton" + NEWTON_MIN,
-     "needs an energy whose gradient is the force"),
     ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + NEWTON_MIN,
      "requires pair_style sph/icb"),
     (ICB + "min_style sph/newton\nfix a all aveforce 0 0 0\nminimize 0 1e-8 100 1000",

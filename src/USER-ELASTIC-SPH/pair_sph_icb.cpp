@@ -33,11 +33,24 @@
 #include "sph_elastic_math.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
 using namespace LAMMPS_NS;
+
+namespace {
+// a well-mixed 64-bit hash of a pair of atom IDs (splitmix64 finaliser)
+uint64_t pair_hash(tagint a, tagint b)
+{
+  uint64_t z = (static_cast<uint64_t>(a) * 0x9E3779B97F4A7C15ULL) ^ static_cast<uint64_t>(b);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+}    // namespace
 
 static const char cite_pair_sph_icb[] =
     "pair_style sph/icb command: doi:10.1017/S1446181123000202\n\n"
@@ -57,7 +70,8 @@ enum { COMM_DEFGRAD, COMM_QSTRESS, COMM_PRODUCT_V, COMM_PRODUCT_Q };
 
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
-    gcompact(nullptr), vproduct(nullptr), dqstress(nullptr), ncompute(0), tangents_stamp(-1)
+    npairs(0), maxpairs(0), directed_pairs(false), pair_atoms(nullptr), pair_g(nullptr),
+    vproduct(nullptr), dqstress(nullptr), ncompute(0), tangents_stamp(-1)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
@@ -81,7 +95,8 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(defgrad);
   memory->destroy(qstress);
   memory->destroy(jlocal);
-  memory->destroy(gcompact);
+  memory->destroy(pair_atoms);
+  memory->destroy(pair_g);
   memory->destroy(vproduct);
   memory->destroy(dqstress);
 }
@@ -173,9 +188,15 @@ void PairSPHICB::compute(int eflag, int vflag)
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
   ninverted = 0;
+  // F_i = sum_j (x_j - x_i) (x) g_ij, then each atom's stress from its F
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < 9; a++) defgrad[i][a] = 0.0;
+  if (two_d)
+    pair_gradients<2>(atom->x, defgrad);
+  else
+    pair_gradients<3>(atom->x, defgrad);
   for (int i = 0; i < nlocal; i++) {
-    const double e = two_d ? stress_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4])
-                           : stress_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
+    const double e = stress_pass(i);
     if (eflag_global) eng_vdwl += e;
     if (eflag_atom) eatom[i] += e;
   }
@@ -193,12 +214,10 @@ void PairSPHICB::compute(int eflag, int vflag)
   comm_what = COMM_QSTRESS;
   comm->forward_comm(this);
 
-  for (int i = 0; i < nlocal; i++) {
-    if (two_d)
-      force_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4]);
-    else
-      force_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
-  }
+  if (two_d)
+    pair_divergence<2, true>(qstress, atom->f[0]);
+  else
+    pair_divergence<3, true>(qstress, atom->f[0]);
 
   // the scale of the residual when a minimisation ends
   if (update->whichflag == 2) {
@@ -302,9 +321,7 @@ void PairSPHICB::grow_work()
   if (need > maxlocal) {
     maxlocal = need;
     memory->destroy(jlocal);
-    memory->destroy(gcompact);
     memory->create(jlocal, maxlocal, "pair:jlocal");
-    memory->create(gcompact, 6 * maxlocal, "pair:gcompact");
     jlocal_builds = -1;
   }
 }
@@ -324,21 +341,164 @@ void PairSPHICB::refresh_partner_indices()
   const int nlocal = atom->nlocal;
   if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal) return;
   const int mp = partners->maxpartner;
-  const int dim = domain->dimension;
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < partners->npartner[i]; k++) {
       const int j = partners->find_partner(i, k);
       if (j < 0) report_missing_partner(i, k);
       jlocal[i * mp + k] = j;
-      const double *pd = &partners->pdata[i][k * FixSPHPartners::NPDATA];
-      double *gc = &gcompact[(i * mp + k) * 2 * dim];
-      for (int a = 0; a < dim; a++) {
-        gc[a] = pd[FixSPHPartners::GIJ + a];
-        gc[dim + a] = pd[FixSPHPartners::GJI + a];
-      }
     }
+  build_pairs();
   jlocal_builds = neighbor->ncalls;
   jlocal_nlocal = nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   the pair list of the sweeps from the partner indices.  Partnership is
+   mutual (the same reference distance decides it from both sides), so an
+   owned pair skipped from its larger atom ID is listed from its smaller
+   one.  That needs both atoms to see each other as owned, not as a
+   periodic image: in a periodic box squeezed until partners are half a
+   box length apart the two sides may pick different images.  The counts
+   tell, and then every atom lists all its partners for itself alone
+   (directed pairs), as each side resolved them.  The pairs go by atom ID
+   and then in each atom's partner order, so every atom receives its terms
+   in an order that does not depend on where the atoms sit in memory: an
+   atom sort or a restart changes no bit of a serial run.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::build_pairs()
+{
+  const int nlocal = atom->nlocal;
+  bigint bound = 0;
+  for (int i = 0; i < nlocal; i++) bound += partners->npartner[i];
+  if (bound > maxpairs) {
+    if (bound > MAXSMALLINT / 6)
+      error->one(FLERR, "Pair style sph/icb: too many partner pairs on one processor");
+    maxpairs = static_cast<int>(bound);
+    memory->destroy(pair_atoms);
+    memory->destroy(pair_g);
+    memory->create(pair_atoms, 2 * maxpairs, "pair:pair_atoms");
+    memory->create(pair_g, 6 * (bigint) maxpairs, "pair:pair_g");
+  }
+  const tagint *tag = atom->tag;
+  std::vector<int> by_id(nlocal);
+  for (int i = 0; i < nlocal; i++) by_id[i] = i;
+  std::sort(by_id.begin(), by_id.end(), [tag](int a, int b) {
+    return tag[a] < tag[b];
+  });
+
+  directed_pairs = !list_pairs(by_id, false);
+  if (directed_pairs) list_pairs(by_id, true);
+}
+
+/* ----------------------------------------------------------------------
+   the pairs of the owned atoms in the given order: directed, all of each
+   atom's partners; else each pair of two owned atoms once.  Returns false
+   if the owned pairs skipped are not those listed (a sum of hashes of the
+   atom IDs of each pair, from both sides)
+------------------------------------------------------------------------- */
+
+bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
+{
+  const int nlocal = atom->nlocal;
+  const int mp = partners->maxpartner;
+  const int dim = domain->dimension;
+  const tagint *tag = atom->tag;
+  uint64_t listed = 0, skipped = 0;
+  npairs = 0;
+  for (const int i : order) {
+    const double *pd = partners->pdata[i];
+    for (int k = 0; k < partners->npartner[i]; k++) {
+      const int j = jlocal[i * mp + k];
+      if (!directed && j < nlocal) {
+        const uint64_t key = pair_hash(std::min(tag[i], tag[j]), std::max(tag[i], tag[j]));
+        if (tag[j] < tag[i]) {
+          skipped += key;
+          continue;
+        }
+        listed += key;
+      }
+      pair_atoms[2 * npairs] = i;
+      pair_atoms[2 * npairs + 1] = j;
+      double *g = &pair_g[(bigint) npairs * 2 * dim];
+      for (int a = 0; a < dim; a++) {
+        g[a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ + a];
+        g[dim + a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GJI + a];
+      }
+      npairs++;
+    }
+  }
+  return listed == skipped;
+}
+
+/* ----------------------------------------------------------------------
+   grad_i += sum_j (field_j - field_i) (x) g_ij for every owned atom i
+   (3 values per atom in field, 9 row-major in grad), each pair once
+------------------------------------------------------------------------- */
+
+template <int DIM>
+void PairSPHICB::pair_gradients(const double *const *field, double *const *grad) const
+{
+  const int nlocal = atom->nlocal;
+  for (int p = 0; p < npairs; p++) {
+    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+    const double *gij = &pair_g[(bigint) p * 2 * DIM];
+    const double *gji = gij + DIM;
+    double d[DIM];
+    for (int a = 0; a < DIM; a++) d[a] = field[j][a] - field[i][a];
+    double *Gi = grad[i];
+    for (int a = 0; a < DIM; a++)
+      for (int b = 0; b < DIM; b++) Gi[3 * a + b] += d[a] * gij[b];
+    if (!directed_pairs && j < nlocal) {
+      double *Gj = grad[j];
+      for (int a = 0; a < DIM; a++)
+        for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   f_i += sum_j (Q_i g_ij - Q_j g_ji) for every owned atom i, each pair
+   once (its share to j is the opposite).  FORCE: out is atom->f and the
+   virial is tallied as a full neighbor list would; else out (3 values per
+   owned atom) receives minus that sum, the Hessian product's sign.
+------------------------------------------------------------------------- */
+
+template <int DIM, bool FORCE> void PairSPHICB::pair_divergence(const double *const *q, double *out)
+{
+  const double *const *const x = atom->x;
+  const int nlocal = atom->nlocal;
+  const double sign = FORCE ? 1.0 : -1.0;
+  for (int p = 0; p < npairs; p++) {
+    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+    const double *gij = &pair_g[(bigint) p * 2 * DIM];
+    const double *gji = gij + DIM;
+    const double *Qi = q[i];
+    const double *Qj = q[j];
+    // in 2d the z row of Q and the z components of g vanish
+    double fij[3] = {0.0, 0.0, 0.0};
+    for (int a = 0; a < DIM; a++) {
+      double qi = 0.0, qj = 0.0;
+      for (int b = 0; b < DIM; b++) {
+        qi += Qi[3 * a + b] * gij[b];
+        qj += Qj[3 * a + b] * gji[b];
+      }
+      fij[a] = sign * (qi - qj);
+    }
+    if (FORCE && vflag_either) {
+      const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      add_pair_force(i, fij, del);
+      if (!directed_pairs && j < nlocal) {
+        const double fji[3] = {-fij[0], -fij[1], -fij[2]};
+        const double dji[3] = {-del[0], -del[1], -del[2]};
+        add_pair_force(j, fji, dji);
+      }
+      continue;
+    }
+    for (int a = 0; a < DIM; a++) out[3 * i + a] += fij[a];
+    if (!directed_pairs && j < nlocal)
+      for (int a = 0; a < DIM; a++) out[3 * j + a] -= fij[a];
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -385,25 +545,17 @@ const int *PairSPHICB::partner_indices(int i) const
 }
 
 /* ----------------------------------------------------------------------
-   deformation gradient, strain, stress and stress measure of owned atom i;
-   returns its strain energy V_i psi(E_i)
+   strain, stress and stress measure of owned atom i from its deformation
+   gradient (defgrad, summed by pair_gradients()); returns its strain
+   energy V_i psi(E_i)
 ------------------------------------------------------------------------- */
 
-template <int DIM> double PairSPHICB::stress_pass(int i, const int *jl, const double *gc)
+double PairSPHICB::stress_pass(int i)
 {
-  const double *const *const x = atom->x;
-  const int n = partners->npartner[i];
-
-  double F[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  for (int k = 0; k < n; k++) {
-    const int j = jl[k];
-    const double *g = &gc[k * 2 * DIM];
-    for (int a = 0; a < DIM; a++) {
-      const double dxa = x[j][a] - x[i][a];
-      for (int b = 0; b < DIM; b++) F[a][b] += dxa * g[b];
-    }
-  }
-  if (DIM == 2) F[2][2] = 1.0;
+  double F[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
+  if (domain->dimension == 2) F[2][2] = 1.0;
 
   const double detF = SPHElastic::det3(F);
   if (!std::isfinite(detF))
@@ -508,34 +660,6 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
     add_pair_force(i, fd, del);
   }
   return energy;
-}
-
-/* ---------------------------------------------------------------------- */
-
-template <int DIM> void PairSPHICB::force_pass(int i, const int *jl, const double *gc)
-{
-  const double *const *const x = atom->x;
-  const int n = partners->npartner[i];
-  const double *Qi = qstress[i];
-
-  // in 2d the z row of Q and the z components of g vanish
-  for (int k = 0; k < n; k++) {
-    const int j = jl[k];
-    const double *gij = &gc[k * 2 * DIM];
-    const double *gji = gij + DIM;
-    const double *Qj = qstress[j];
-    double fij[3] = {0.0, 0.0, 0.0};
-    for (int a = 0; a < DIM; a++) {
-      double qi = 0.0, qj = 0.0;
-      for (int b = 0; b < DIM; b++) {
-        qi += Qi[3 * a + b] * gij[b];
-        qj += Qj[3 * a + b] * gji[b];
-      }
-      fij[a] = qi - qj;
-    }
-    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-    add_pair_force(i, fij, del);
-  }
 }
 
 /* ----------------------------------------------------------------------
@@ -690,23 +814,22 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
   comm_what = COMM_PRODUCT_V;
   comm->forward_comm(this);
 
-  for (int i = 0; i < nlocal; i++) {
-    if (two_d)
-      product_stress_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4]);
-    else
-      product_stress_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6]);
-  }
+  // dF_i = sum_j (v_j - v_i) (x) g_ij into dqstress, then V A:dF in place
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < 9; a++) dqstress[i][a] = 0.0;
+  if (two_d)
+    pair_gradients<2>(vproduct, dqstress);
+  else
+    pair_gradients<3>(vproduct, dqstress);
+  for (int i = 0; i < nlocal; i++) product_stress_pass(i);
   comm_what = COMM_PRODUCT_Q;
   comm->forward_comm(this);
 
-  for (int i = 0; i < nlocal; i++) {
-    double *out = &kv[3 * i];
-    out[0] = out[1] = out[2] = 0.0;
-    if (two_d)
-      product_force_pass<2>(i, &jlocal[i * mp], &gcompact[i * mp * 4], out);
-    else
-      product_force_pass<3>(i, &jlocal[i * mp], &gcompact[i * mp * 6], out);
-  }
+  for (int i = 0; i < 3 * nlocal; i++) kv[i] = 0.0;
+  if (two_d)
+    pair_divergence<2, false>(dqstress, kv);
+  else
+    pair_divergence<3, false>(dqstress, kv);
 
   // the springs of hourglass_hessian(): each pair is visited from both atoms
   if (hourglass > 0.0) {
@@ -724,55 +847,32 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
   }
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   dQ_i = V_i A_i : dF_i, dF_i as pair_gradients() left it in dqstress[i]
+------------------------------------------------------------------------- */
 
-template <int DIM> void PairSPHICB::product_stress_pass(int i, const int *jl, const double *gc)
+void PairSPHICB::product_stress_pass(int i)
 {
   double *dQ = dqstress[i];
-  for (int a = 0; a < 9; a++) dQ[a] = 0.0;
-  if (atom->mask[i] & mirror_groupbit) return;
-
-  const double *vi = vproduct[i];
-  double dF[DIM][DIM] = {};
-  for (int k = 0; k < partners->npartner[i]; k++) {
-    const double *vj = vproduct[jl[k]];
-    const double *g = &gc[k * 2 * DIM];
-    for (int a = 0; a < DIM; a++) {
-      const double dva = vj[a] - vi[a];
-      for (int b = 0; b < DIM; b++) dF[a][b] += dva * g[b];
-    }
+  if (atom->mask[i] & mirror_groupbit) {
+    for (int a = 0; a < 9; a++) dQ[a] = 0.0;
+    return;
   }
+  const int dim = domain->dimension;
+  double dF[3][3] = {};
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++) dF[a][b] = dQ[3 * a + b];
+  for (int a = 0; a < 9; a++) dQ[a] = 0.0;
   const double *A = &tangents[81 * (size_t) i];    // A[a][J][b][L]
   const double volume = atom->vfrac[i];
-  for (int a = 0; a < DIM; a++)
-    for (int J = 0; J < DIM; J++) {
+  for (int a = 0; a < dim; a++)
+    for (int J = 0; J < dim; J++) {
       const double *AaJ = &A[27 * a + 9 * J];
       double sum = 0.0;
-      for (int b = 0; b < DIM; b++)
-        for (int L = 0; L < DIM; L++) sum += AaJ[3 * b + L] * dF[b][L];
+      for (int b = 0; b < dim; b++)
+        for (int L = 0; L < dim; L++) sum += AaJ[3 * b + L] * dF[b][L];
       dQ[3 * a + J] = volume * sum;
     }
-}
-
-/* ---------------------------------------------------------------------- */
-
-template <int DIM>
-void PairSPHICB::product_force_pass(int i, const int *jl, const double *gc, double *kv)
-{
-  const double *dQi = dqstress[i];
-  for (int k = 0; k < partners->npartner[i]; k++) {
-    const double *gij = &gc[k * 2 * DIM];
-    const double *gji = gij + DIM;
-    const double *dQj = dqstress[jl[k]];
-    for (int a = 0; a < DIM; a++) {
-      double qi = 0.0, qj = 0.0;
-      for (int b = 0; b < DIM; b++) {
-        qi += dQi[3 * a + b] * gij[b];
-        qj += dQj[3 * a + b] * gji[b];
-      }
-      kv[a] -= qi - qj;
-    }
-  }
 }
 
 /* ----------------------------------------------------------------------
@@ -888,7 +988,7 @@ double **PairSPHICB::forward_array() const
 double PairSPHICB::memory_usage()
 {
   double bytes = PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
-      (double) maxlocal * (sizeof(int) + 6 * sizeof(double));
+      (double) maxlocal * sizeof(int) + (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double));
   if (vproduct) bytes += (double) nmax_work * 12 * sizeof(double);
   return bytes + (double) tangents.capacity() * sizeof(double);
 }

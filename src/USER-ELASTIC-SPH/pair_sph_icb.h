@@ -79,7 +79,14 @@ class PairSPHICB : public PairSPHElastic {
   double **defgrad;    // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;    // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
   int *jlocal;         // local index of each partner, since the last rebuild
-  double *gcompact;    // g_ij then g_ji of each partner, d doubles each
+  // every pair of partners once, ordered by i: both owned (once, i < j) or
+  // j a ghost (from the owned side; the other rank does the other side).
+  // The sweeps add each pair's share to both of its atoms, which reads the
+  // gradients once instead of twice (the sweeps are memory bound in 3d)
+  int npairs, maxpairs;
+  bool directed_pairs;    // each atom lists all its partners, for itself only
+  int *pair_atoms;        // i and j of each pair
+  double *pair_g;         // g_ij then g_ji of each pair, d doubles each
   int nmax_work, maxlocal;
   bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
@@ -106,16 +113,18 @@ class PairSPHICB : public PairSPHElastic {
   void report_minimize_residual();
   void refresh_partner_indices();
   void report_missing_partner(int i, int k) const;
-  template <int DIM> double stress_pass(int i, const int *jl, const double *gc);
+  void build_pairs();
+  bool list_pairs(const std::vector<int> &order, bool directed);
+  template <int DIM> void pair_gradients(const double *const *field, double *const *grad) const;
+  template <int DIM, bool FORCE> void pair_divergence(const double *const *q, double *out);
+  double stress_pass(int i);
   double hourglass_pass(int i, const int *jl);
-  template <int DIM> void force_pass(int i, const int *jl, const double *gc);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
   void hourglass_hessian(int i, const int *jl, const HessianSink &) const;
   void refresh_tangents();
   double **forward_array() const;
-  template <int DIM> void product_stress_pass(int i, const int *jl, const double *gc);
-  template <int DIM> void product_force_pass(int i, const int *jl, const double *gc, double *kv);
+  void product_stress_pass(int i);
 };
 
 }    // namespace LAMMPS_NS
