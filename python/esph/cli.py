@@ -1,4 +1,5 @@
-"""Command line: python -m esph {validate,bench,bench3d,matrix,speed,statics,figures,rings} ...
+"""Command line: python -m esph {validate,bench,bench3d,matrix,speed,statics,figures,rings,
+spheres3d} ...
 (see --help).  This module only parses arguments and hands them to the
 module that does the work."""
 from __future__ import annotations
@@ -7,7 +8,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import bench3d, figures, matrix, rings, speed, statics, theory, validate
+from . import bench3d, figures, matrix, rings, speed, spheres3d, statics, theory, validate
 from .report import progress
 
 
@@ -69,6 +70,9 @@ def cmd_speed(args) -> int:
     speed.speed_table(Path(args.out), _floats(args.dx), _floats(args.truss_dx), args.np,
                       _names(args.problems, speed.CASES, "problem"),
                       _names(args.methods, speed.METHODS, "method"), progress=progress)
+    if args.spheres != "none":
+        speed.spheres_throughput(_floats(args.spheres), [args.np], out=Path(args.out),
+                                 progress=progress)
     return 0
 
 
@@ -84,6 +88,12 @@ def cmd_figures(args) -> int:
     return 0
 
 
+def cmd_spheres3d(args) -> int:
+    spheres3d.run_table(_floats(args.nr), args.v, _ints(args.np), out=Path(args.out),
+                        progress=progress, stress=args.stress, volumes=args.volumes)
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="esph", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -92,10 +102,10 @@ def main(argv=None) -> int:
     val.add_argument("--full", action="store_true",
                      help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
                           "(about 70 min on one core); default: quick (about 1 min)")
-    val.add_argument("--tables", default="12345m",
+    val.add_argument("--tables", default="123456m",
                      help="which tables: 1 2 3 4 (ICB, the paper's), 5 (the defaults against "
-                          "the finite-element continuum, nu = 0 and 0.3, 3D), m (failure matrix, "
-                          "with --full)")
+                          "the finite-element continuum, nu = 0 and 0.3, 3D), 6 (two spheres "
+                          "colliding in 3D against Hertz), m (failure matrix, with --full)")
     val.add_argument("--dx", type=float, default=0.002,
                      help="particle spacing of Tables 1 and 3 in m (0.002)")
     val.add_argument("--loads", default=",".join(f"{x:g}" for x in theory.PAPER_BEAM_LOADS),
@@ -125,7 +135,8 @@ def main(argv=None) -> int:
     ben.add_argument("--steps", type=int, default=2000)
     ben.add_argument("--styles", default="icb,ccb,tlsph",
                      help="comma-separated: " + ", ".join(speed.BENCH_STYLES) + " (tlsph = MACHDYN "
-                          "smd/tlsph on the same beam)")
+                          "smd/tlsph on the same beam; icb3d and tlsph3d: the 3d cantilever, e.g. "
+                          "--dx 0.002 --steps 200)")
     ben.set_defaults(func=cmd_bench)
 
     b3d = sub.add_parser("bench3d", help="3D cantilever statics per linear solver: iterations, "
@@ -163,6 +174,9 @@ def main(argv=None) -> int:
                          f"{name} = {m.label}" for name, m in speed.METHODS.items()))
     spd.add_argument("--np", type=int, default=1, help="MPI ranks (1)")
     spd.add_argument("--out", default="speed-out", help="output folder (speed-out)")
+    spd.add_argument("--spheres", default=",".join(f"{nr:g}" for nr in speed.SPHERES_NR),
+                     help="comma-separated R/dx of the 3D sphere collision's throughput rows "
+                          "after the table, or none (default: %(default)s)")
     spd.set_defaults(func=cmd_speed)
 
     sta = sub.add_parser("statics", help="time to the static beam (-250 N) by Newton, CG and "
@@ -202,6 +216,19 @@ def main(argv=None) -> int:
     rng.add_argument("--np", type=int, default=1, help="MPI ranks (1 = in-process)")
     rng.add_argument("--out", default="rings-out", help="output folder (rings-out)")
     rng.set_defaults(func=cmd_rings)
+
+    sph = sub.add_parser("spheres3d", help="two spheres colliding in 3D (fix sph/contact) against "
+                                           "Hertz: contact duration, peak force, restitution, "
+                                           "balances, throughput")
+    sph.add_argument("--nr", default="6,8", help="comma-separated particles per radius R/dx (6,8)")
+    sph.add_argument("--v", type=float, default=20.0, help="speed of each sphere in m/s (20)")
+    sph.add_argument("--stress", default="pk1", choices=["corotated", "pk1"],
+                     help="icb stress measure (default %(default)s)")
+    sph.add_argument("--volumes", default="exact", choices=["exact", "cells"],
+                     help="exact = set_sph_volumes lattice (default), cells = plain dx^3")
+    sph.add_argument("--np", default="1", help="comma-separated MPI rank counts (1)")
+    sph.add_argument("--out", default="spheres3d-out", help="output folder (spheres3d-out)")
+    sph.set_defaults(func=cmd_spheres3d)
 
     args = parser.parse_args(argv)
     return args.func(args)

@@ -15,7 +15,8 @@ from pathlib import Path
 
 from . import plots
 from .paths import lmp_binary
-from .problems import BEAM, BEAM_TLSPH, DEFAULT, PAPER, PROBLEMS, QUADRATIC_MIRROR, exact_tip
+from .problems import (BEAM, BEAM3D, BEAM3D_TLSPH, BEAM_TLSPH, DEFAULT, PAPER, PROBLEMS,
+                       QUADRATIC_MIRROR, exact_tip)
 from .report import command_line, machine, print_head, write_rows
 from .runner import RunError, run_mpi
 
@@ -157,6 +158,9 @@ BENCH_STYLES = {
     "ccb": (BEAM, {"scheme": "ccb"}),
     "ccbwat": (BEAM, {"scheme": "ccbwat"}),
     "tlsph": (BEAM_TLSPH, {}),
+    # the 3d cantilever (0.2 x 0.02 x 0.02 m) with the defaults, and MACHDYN's
+    "icb3d": (BEAM3D, {}),
+    "tlsph3d": (BEAM3D_TLSPH, {}),
 }
 
 
@@ -179,3 +183,51 @@ def throughput(dxs, styles, nprocs_list, steps: int) -> None:
                 cmd = command_line(script, variables, nprocs, shlex.quote(lmp_binary()))
                 print(f"{style:>8} {dx * 1e3:7.2f} {natoms:7d} {nprocs:5d} {loop:8.3f} "
                       f"{rate / 1e6:14.3f} {nprocs * 1e6 / rate:12.3f}  {cmd}", flush=True)
+
+
+# throughput of a 3D contact problem: the sphere collision of
+# examples/spheres3d, particles per radius R/dx
+SPHERES_NR = (6, 10)
+
+
+@dataclass
+class SpheresSpeedRow:
+    nr: float                # particles per sphere radius, R/dx
+    atoms: int
+    nprocs: int
+    steps: int
+    wall: float              # s, the whole mpirun
+    loop: float              # s, LAMMPS's loop time of all runs
+    throughput: float        # particle-steps per second of the loop time
+    duration_error: float    # contact duration against Hertz
+    command: str
+
+
+def spheres_throughput(nrs=SPHERES_NR, nprocs_list=(1, 2), v: float = 20.0,
+                       out: Path | None = None, progress=print) -> list[SpheresSpeedRow]:
+    """Particle-steps per second of the 3D sphere collision (pair sph/icb
+    with fix sph/contact and its own neighbour list, fix nve) from first
+    step to separation: the contact problem beside the beam's dynamics.
+    Not a speed-against-error case (no equilibrium to reach), so a table of
+    its own."""
+    from .spheres3d import SPHERES3D, SpheresCase, run_spheres
+    print(f"\nThroughput, two spheres colliding in 3d (examples/spheres3d, {v:g} m/s each, to "
+          f"separation); machine {platform.node()} ({os.cpu_count()} cores)")
+    print_head(f"{'R/dx':>5} {'atoms':>7} {'ranks':>5} {'steps':>6} {'wall[s]':>8} {'loop[s]':>8} "
+               f"{'Mpart-steps/s':>14} {'t_c/Hertz-1':>11}  command")
+    rows = []
+    for nr in nrs:
+        for nprocs in nprocs_list:
+            progress(f"[esph] spheres3d R/dx = {nr:g}, {nprocs} rank(s) ...")
+            case = SpheresCase(nr=nr, v=v)
+            res = run_spheres(case, nprocs)
+            cmd = command_line(SPHERES3D, case.variables(), nprocs, shlex.quote(lmp_binary()))
+            row = SpheresSpeedRow(nr, res.atoms, nprocs, res.steps, res.wall, res.loop,
+                                  res.throughput, res.duration_error, cmd)
+            print(f"{nr:5g} {row.atoms:7d} {nprocs:5d} {row.steps:6d} {row.wall:8.2f} "
+                  f"{row.loop:8.3f} {row.throughput / 1e6:14.3f} "
+                  f"{100 * row.duration_error:+10.1f}%  {cmd}", flush=True)
+            rows.append(row)
+    if out is not None:
+        write_rows(Path(out) / "spheres3d_speed.json", [asdict(r) for r in rows])
+    return rows

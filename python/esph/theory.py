@@ -281,3 +281,72 @@ class Truss:
         """Axial displacement of material point X (default the free end L)."""
         X = self.L if X is None else X
         return (self.stretch(load, model) - 1.0) * X
+
+
+@dataclass(frozen=True)
+class Impact:
+    """A quasi-static elastic impact of two bodies, from first touch to
+    separation (what `hertz_impact` and `flat_contact_impact` return)."""
+    duration: float          # s, contact duration t_c
+    force_max: float         # N, largest contact force
+    approach_max: float      # m, largest mutual approach delta* of the two bodies
+    contact_radius: float    # m, radius a of the contact circle at delta*
+    pressure_max: float      # Pa, largest contact pressure (Hertz: central p0 = 3 F/(2 pi a^2))
+
+
+def hertz_impact(R1: float, E1: float, nu1: float, m1: float, v: float,
+                 R2: float | None = None, E2: float | None = None, nu2: float | None = None,
+                 m2: float | None = None) -> Impact:
+    """Head-on impact of two elastic spheres at the relative approach speed
+    v (twice the speed of each when both move towards the other at the same
+    speed); sphere 2 defaults to a copy of sphere 1.
+
+    Hertz's contact (H. Hertz, J. reine angew. Math. 92, 156, 1882; K. L.
+    Johnson, Contact Mechanics, Cambridge 1985, section 11.4) with
+    1/R* = 1/R1 + 1/R2, 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 and
+    1/m* = 1/m1 + 1/m2 (two identical spheres: R* = R/2, E* = E/(2 (1 - nu^2)),
+    m* = m/2): the force at a mutual approach delta is
+    F = (4/3) E* R*^(1/2) delta^(3/2), the largest approach follows from the
+    energy, m* v^2/2 = (8/15) E* R*^(1/2) delta*^(5/2), and the time from
+    first touch to separation is
+        t_c = 2 (delta*/v) int_0^1 dx/sqrt(1 - x^(5/2)) = 2.943 delta*/v
+            = 2.87 (m*^2/(R* E*^2 v))^(1/5).
+    Quasi-static: it holds while t_c is long against the time elastic waves
+    take to cross the spheres and the contact radius is small against R*."""
+    R2 = R1 if R2 is None else R2
+    E2 = E1 if E2 is None else E2
+    nu2 = nu1 if nu2 is None else nu2
+    m2 = m1 if m2 is None else m2
+    Rs = 1.0 / (1.0 / R1 + 1.0 / R2)
+    Es = 1.0 / ((1.0 - nu1 ** 2) / E1 + (1.0 - nu2 ** 2) / E2)
+    ms = 1.0 / (1.0 / m1 + 1.0 / m2)
+    delta = (15.0 * ms * v ** 2 / (16.0 * Es * math.sqrt(Rs))) ** 0.4
+    force = 4.0 / 3.0 * Es * math.sqrt(Rs) * delta ** 1.5
+    a = math.sqrt(Rs * delta)
+    # int_0^1 (1 - x^(5/2))^(-1/2) dx = (2/5) B(2/5, 1/2) = 1.4716
+    duration = 2.0 * 0.4 * float(special.beta(0.4, 0.5)) * delta / v
+    return Impact(duration, force, delta, a, 1.5 * force / (math.pi * a ** 2))
+
+
+def flat_contact_impact(area: float, E: float, nu: float, m: float, v: float,
+                        k_contact: float = math.inf) -> Impact:
+    """Head-on impact of two identical bodies of mass m at relative speed v
+    that touch over a flat face of the given area, as two spheres built on a
+    cubic lattice do with the flat facet at their poles while the approach is
+    small against the lattice step.  The mid-plane between them stays plane
+    by symmetry, so each body is pressed about as by a rigid flat punch, here
+    the circle of the same area, a = sqrt(area/pi), on a half-space:
+    stiffness 2 a E/(1 - nu^2) (Boussinesq's flat-ended punch; K. L. Johnson,
+    Contact Mechanics, Cambridge 1985, chapter 3).  The two bodies act in
+    series, and with them the stiffness k_contact of the contact itself (fix
+    sph/contact: the springs of the facet's particle pairs, N dx K/2 in 3d).
+    A linear spring: the contact lasts half a period, t_c = pi sqrt(m*/k),
+    m* = m/2, whatever the speed, and the largest force is v sqrt(m* k).  It
+    leaves out the compliance of a sphere's finite size and its waves, so a
+    sphere's contact lasts somewhat longer."""
+    a = math.sqrt(area / math.pi)
+    k_body = 2.0 * a * E / (1.0 - nu ** 2)
+    k = 1.0 / (2.0 / k_body + 1.0 / k_contact)
+    ms = 0.5 * m
+    force = v * math.sqrt(ms * k)
+    return Impact(math.pi * math.sqrt(ms / k), force, force / k, a, force / area)
