@@ -236,19 +236,30 @@ int MinSPHNewton::newton_loop(int maxiter)
     const int fail = line_search(escale * fdoth);
     if (fail) return fail;
 
-    if (neval >= update->max_eval) return MAXEVAL;
-    if (fabs(ecurrent - eprevious) <
-        update->etol * 0.5 * (fabs(ecurrent) + fabs(eprevious) + EPS_ENERGY))
-      return ETOL;
-    if (force_below_ftol()) return FTOL;
-
-    if (output->next == ntimestep) {
-      timer->stamp();
-      output->write(ntimestep);
-      timer->stamp(Timer::OUTPUT);
-    }
+    if (const int stop = stop_or_output(ntimestep, true)) return stop;
   }
   return MAXITER;
+}
+
+/* ----------------------------------------------------------------------
+   the end of an iteration: the stopping test (maxeval, etol if the
+   energy counts, ftol), else the output due at this step
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::stop_or_output(bigint ntimestep, bool test_energy)
+{
+  if (neval >= update->max_eval) return MAXEVAL;
+  if (test_energy &&
+      fabs(ecurrent - eprevious) <
+          update->etol * 0.5 * (fabs(ecurrent) + fabs(eprevious) + EPS_ENERGY))
+    return ETOL;
+  if (force_below_ftol()) return FTOL;
+  if (output->next == ntimestep) {
+    timer->stamp();
+    output->write(ntimestep);
+    timer->stamp(Timer::OUTPUT);
+  }
+  return 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -422,14 +433,8 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
     phi = 0.0;
     for (double value : residual) phi += value * value;
 
-    if (neval >= update->max_eval) return MAXEVAL;
-    if (force_below_ftol()) return FTOL;
-
-    if (output->next == ntimestep) {
-      timer->stamp();
-      output->write(ntimestep);
-      timer->stamp(Timer::OUTPUT);
-    }
+    // no energy: etol has nothing to test
+    if (const int stop = stop_or_output(ntimestep, false)) return stop;
   }
   return MAXITER;
 }

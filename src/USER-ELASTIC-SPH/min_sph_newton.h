@@ -80,6 +80,7 @@ class MinSPHNewton : public MinLineSearch {
   void precondition(const std::vector<double> &v, std::vector<double> &z);
   void whole_free_force(std::vector<double> &force);
   bool force_below_ftol();
+  int stop_or_output(bigint ntimestep, bool test_energy);
 };
 
 }    // namespace LAMMPS_NS
