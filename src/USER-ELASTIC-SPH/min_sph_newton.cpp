@@ -98,15 +98,7 @@ void MinSPHNewton::init()
 int MinSPHNewton::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "solver") == 0) {
-    if (narg < 2) utils::missing_cmd_args(FLERR, "min_modify solver", error);
-    if (strcmp(arg[1], "direct") == 0)
-      backend = DIRECT;
-    else if (strcmp(arg[1], "petsc") == 0)
-      backend = PETSC;
-    else if (strcmp(arg[1], "mumps") == 0)
-      backend = MUMPS;
-    else
-      error->all(FLERR, "Unknown min_modify solver {}: use direct, petsc or mumps", arg[1]);
+    backend = keyword_choice(narg, arg, {{"direct", DIRECT}, {"petsc", PETSC}, {"mumps", MUMPS}});
     if (backend != DIRECT && !PetscLinearSolver::available())
       error->all(FLERR,
                  "Min_modify solver {}: this LAMMPS was built without PETSc (install it, e.g. "
@@ -114,21 +106,38 @@ int MinSPHNewton::modify_param(int narg, char **arg)
                  arg[1]);
     return 2;
   }
-  if (strcmp(arg[0], "factor") != 0) return 0;
-  if (narg < 2) utils::missing_cmd_args(FLERR, "min_modify factor", error);
-  if (strcmp(arg[1], "auto") == 0)
-    factor = AUTO;
-  else if (strcmp(arg[1], "ldlt") == 0)
-    factor = LDLT;
-  else if (strcmp(arg[1], "cholmod") == 0)
-    factor = CHOLMOD;
-  else
-    error->all(FLERR, "Unknown min_modify factor {}: use auto, cholmod or ldlt", arg[1]);
-  if (factor == CHOLMOD && !EigenLinearSolver::have_cholmod())
-    error->all(FLERR,
-               "min_modify factor cholmod: this LAMMPS was built without SuiteSparse CHOLMOD "
-               "(install it, e.g. Debian's libsuitesparse-dev, and rebuild; or use factor auto)");
-  return 2;
+  if (strcmp(arg[0], "factor") == 0) {
+    factor = keyword_choice(narg, arg, {{"auto", AUTO}, {"cholmod", CHOLMOD}, {"ldlt", LDLT}});
+    if (factor == CHOLMOD && !EigenLinearSolver::have_cholmod())
+      error->all(FLERR,
+                 "min_modify factor cholmod: this LAMMPS was built without SuiteSparse CHOLMOD "
+                 "(install it, e.g. Debian's libsuitesparse-dev, and rebuild; or use factor "
+                 "auto)");
+    return 2;
+  }
+  return 0;
+}
+
+/* ----------------------------------------------------------------------
+   the value of min_modify keyword arg[0] named by arg[1]; an error that
+   lists the names otherwise
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::keyword_choice(int narg, char **arg,
+                                 std::initializer_list<std::pair<const char *, int>> choices)
+{
+  const std::string keyword = fmt::format("min_modify {}", arg[0]);
+  if (narg < 2) utils::missing_cmd_args(FLERR, keyword, error);
+  std::string names;
+  size_t k = 0;
+  for (const auto &choice : choices) {
+    if (strcmp(arg[1], choice.first) == 0) return choice.second;
+    if (k > 0) names += (k + 1 == choices.size()) ? " or " : ", ";
+    names += choice.first;
+    k++;
+  }
+  error->all(FLERR, "Unknown {} {}: use {}", keyword, arg[1], names);
+  return 0;
 }
 
 /* ---------------------------------------------------------------------- */

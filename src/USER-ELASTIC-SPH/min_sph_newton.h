@@ -22,7 +22,9 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 
 #include "min_linesearch.h"
 
+#include <initializer_list>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -69,6 +71,8 @@ class MinSPHNewton : public MinLineSearch {
   double fd_length;                 // largest coordinate change of a difference product
   bigint nkrylov, nproducts;        // GMRES iterations and force calls for J v, this run
 
+  int keyword_choice(int narg, char **arg,
+                     std::initializer_list<std::pair<const char *, int>> choices);
   void check_style();
   void start();
   int newton_loop(int);
