@@ -346,19 +346,26 @@ int MinSPHNewton::line_search(double fdoth)
     }
     alpha *= 0.5;
   }
+  return abandon_step(ninverted_trials == MAXHALVING,
+                      "Min_style sph/newton: no energy decrease along the Newton step; is every "
+                      "external load in the energy ('fix_modify ID energy yes')?");
+}
+
+/* ----------------------------------------------------------------------
+   a line search that found no acceptable step: back to its start, and a
+   warning why (every trial inverted particles, or the given reason)
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::abandon_step(bool all_inverted, const std::string &reason)
+{
   ecurrent = alpha_step(0.0, 1);
   alpha_final = 0.0;
-  if (comm->me == 0) {
-    if (ninverted_trials == MAXHALVING)
-      error->warning(FLERR,
-                     "Min_style sph/newton: every step along the Newton direction inverts "
-                     "particles; the load is beyond what the body can carry without turning "
-                     "inside out");
-    else
-      error->warning(FLERR,
-                     "Min_style sph/newton: no energy decrease along the Newton step; is every "
-                     "external load in the energy ('fix_modify ID energy yes')?");
-  }
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   all_inverted ? "Min_style sph/newton: every step along the Newton direction "
+                                  "inverts particles; the load is beyond what the body can "
+                                  "carry without turning inside out"
+                                : reason);
   return ZEROALPHA;
 }
 
@@ -479,23 +486,14 @@ int MinSPHNewton::residual_line_search(double phi0, double eta)
     }
     alpha *= 0.5;
   }
-  ecurrent = alpha_step(0.0, 1);
+  const int stop = abandon_step(ninverted_trials == MAXHALVING,
+                                fmt::format("Min_style sph/newton: the force norm {:.8g} does not "
+                                            "fall along the Newton-Krylov step: it is at its "
+                                            "round-off floor, or the Jacobian's differences are "
+                                            "too coarse for it",
+                                            sqrt(phi0)));
   whole_free_force(residual);
-  alpha_final = 0.0;
-  if (comm->me == 0) {
-    if (ninverted_trials == MAXHALVING)
-      error->warning(FLERR,
-                     "Min_style sph/newton: every step along the Newton direction inverts "
-                     "particles; the load is beyond what the body can carry without turning "
-                     "inside out");
-    else
-      error->warning(FLERR,
-                     "Min_style sph/newton: the force norm {:.8g} does not fall along the "
-                     "Newton-Krylov step: it is at its round-off floor, or the Jacobian's "
-                     "differences are too coarse for it",
-                     sqrt(phi0));
-  }
-  return ZEROALPHA;
+  return stop;
 }
 
 /* ----------------------------------------------------------------------

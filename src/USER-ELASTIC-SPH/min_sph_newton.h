@@ -24,6 +24,7 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 
 #include <initializer_list>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -77,6 +78,7 @@ class MinSPHNewton : public MinLineSearch {
   void start();
   int newton_loop(int);
   int line_search(double fdoth);
+  int abandon_step(bool all_inverted, const std::string &reason);
   int corotated_loop(int);
   int newton_krylov_loop(int);
   int residual_line_search(double phi0, double eta);
