@@ -310,10 +310,7 @@ int MinSPHNewton::line_search(double fdoth)
     const double e = alpha_step(alpha, 1);
     // St. Venant-Kirchhoff's energy does not forbid inversion: a step that
     // turns particles inside out is shortened like one that gains energy
-    tagint inverted_id;
-    double inverted_det;
-    int inverted_type;
-    if (pair->count_inverted(inverted_id, inverted_det, inverted_type) > 0) {
+    if (trial_inverts()) {
       ninverted_trials++;
       alpha *= 0.5;
       continue;
@@ -349,6 +346,18 @@ int MinSPHNewton::line_search(double fdoth)
   return abandon_step(ninverted_trials == MAXHALVING,
                       "Min_style sph/newton: no energy decrease along the Newton step; is every "
                       "external load in the energy ('fix_modify ID energy yes')?");
+}
+
+/* ----------------------------------------------------------------------
+   true if the last force computation found inverted particles (collective)
+------------------------------------------------------------------------- */
+
+bool MinSPHNewton::trial_inverts() const
+{
+  tagint id;
+  double det;
+  int type;
+  return pair->count_inverted(id, det, type) > 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -469,10 +478,7 @@ int MinSPHNewton::residual_line_search(double phi0, double eta)
   int ninverted_trials = 0;
   for (int k = 0; k < MAXHALVING; k++) {
     ecurrent = alpha_step(alpha, 1);
-    tagint inverted_id;
-    double inverted_det;
-    int inverted_type;
-    if (pair->count_inverted(inverted_id, inverted_det, inverted_type) > 0) {
+    if (trial_inverts()) {
       ninverted_trials++;
       alpha *= 0.5;
       continue;

@@ -79,6 +79,7 @@ class MinSPHNewton : public MinLineSearch {
   int newton_loop(int);
   int line_search(double fdoth);
   int abandon_step(bool all_inverted, const std::string &reason);
+  bool trial_inverts() const;
   int corotated_loop(int);
   int newton_krylov_loop(int);
   int residual_line_search(double phi0, double eta);
