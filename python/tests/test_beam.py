@@ -9,7 +9,7 @@ from esph import theory
 from esph.beam import BeamCase, run_beam
 from esph.problems import BEAM
 from esph.runner import run_mpi
-from conftest import block, by_id, make_lammps
+from conftest import block, make_lammps, restart_round_trip
 
 
 def test_theory_reference_values():
@@ -149,20 +149,6 @@ def test_restart_continuation_equals_uninterrupted(tmp_path, dim, gradient):
         v[:n, 0] += 5.0 * (x0[:n, 1] / 1e-3)
         return lmp
 
-    lmp = start()
-    lmp.command("run 200")
-    lmp.command(f"write_restart {rst}")
-    lmp.command("run 200")
-    uninterrupted = by_id(lmp, "x")
-    lmp.close()
-
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        read_restart {rst}
-        fix rot all sph/rotation
-        fix nve all nve
-        run 200
-    """)
-    continued = by_id(lmp, "x")
-    lmp.close()
+    uninterrupted, continued = restart_round_trip(
+        start(), rst, 200, "fix rot all sph/rotation\nfix nve all nve\nrun 200")
     assert np.abs(continued - uninterrupted).max() == 0.0

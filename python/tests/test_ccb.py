@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps, per_atom
+from conftest import make_lammps, per_atom, restart_round_trip
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -225,16 +225,5 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
     rst = tmp_path / "ccb.restart"
     lmp = ccb_block(n=(8, 5), extra=f"viscosity 1 0 artificial_stress 0.3 4 {DX}")
     loaded_state(lmp)
-    lmp.command("run 100")
-    lmp.command(f"write_restart {rst}")
-    lmp.command("run 100")
-    N = natoms(lmp)
-    ids = np.array(lmp.numpy.extract_atom("id")[:N])
-    want = np.array(lmp.numpy.extract_atom("x")[:N])[np.argsort(ids)]
-    lmp.close()
-    lmp = make_lammps()
-    lmp.commands_string(f"read_restart {rst}\nfix integrate all sph/ccb/nve\nrun 100")
-    ids = np.array(lmp.numpy.extract_atom("id")[:N])
-    got = np.array(lmp.numpy.extract_atom("x")[:N])[np.argsort(ids)]
-    lmp.close()
+    want, got = restart_round_trip(lmp, rst, 100, "fix integrate all sph/ccb/nve\nrun 100")
     assert np.abs(got - want).max() == 0.0

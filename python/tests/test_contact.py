@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import by_id, make_lammps
+from conftest import by_id, make_lammps, restart_round_trip
 from esph.problems import RINGS
 from esph.runner import run_mpi, run_script
 
@@ -259,13 +259,7 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
     colliding_blocks(lmp)
     lmp.command("run 0")
     touched = lmp.numpy.extract_fix("contact", 0, 0)
-    lmp.commands_string(f"run 300\nwrite_restart {rst}\nrun 300")
-    uninterrupted = by_id(lmp, "x")
-    lmp.close()
-
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        read_restart {rst}
+    uninterrupted, continued = restart_round_trip(lmp, rst, 300, """
         comm_modify vel yes
         fix contact all sph/contact 0.001 thickness 0.001
         fix_modify contact energy yes
@@ -273,8 +267,6 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
         fix nve all nve
         run 300
     """)
-    continued = by_id(lmp, "x")
-    lmp.close()
     assert touched > 0.0
     assert np.abs(continued - uninterrupted).max() == 0.0
 

@@ -106,14 +106,19 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("commands,message", CASES)
-def test_bad_input_names_the_problem(commands, message):
+def assert_refused(setup, commands, message):
+    """After the setup commands, the commands stop with an error that says message."""
     lmp = make_lammps()
-    lmp.commands_string(BASE)
+    lmp.commands_string(setup)
     with pytest.raises(Exception) as err:
         lmp.commands_string(commands)
     assert message in str(err.value)
     lmp.close()
+
+
+@pytest.mark.parametrize("commands,message", CASES)
+def test_bad_input_names_the_problem(commands, message):
+    assert_refused(BASE, commands, message)
 
 
 @pytest.mark.parametrize("commands,message", [
@@ -121,13 +126,10 @@ def test_bad_input_names_the_problem(commands, message):
     ("fix c all sph/contact 1.0 thickness 0.1", "requires molecule IDs to tell bodies apart"),
 ])
 def test_wrong_atom_style(commands, message):
-    lmp = make_lammps()
-    lmp.commands_string("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
-                        "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
-                        "create_atoms 1 single 1 1 0\nmass 1 1.0\n" + commands)
-    with pytest.raises(Exception, match=message):
-        lmp.command("run 0")
-    lmp.close()
+    assert_refused("units si\ndimension 2\nboundary s s p\natom_style atomic\n"
+                   "region box block 0 4 0 4 -0.5 0.5\ncreate_box 1 box\n"
+                   "create_atoms 1 single 1 1 0\nmass 1 1.0\n" + commands,
+                   "run 0", message)
 
 
 @pytest.mark.parametrize("command,message", [
@@ -135,12 +137,8 @@ def test_wrong_atom_style(commands, message):
     ("fix c all sph/contact 1.0 thickness 0.1", "keyword thickness is only valid in 2d"),
 ])
 def test_2d_only_keyword_in_3d(command, message):
-    lmp = make_lammps()
-    lmp.commands_string("units si\ndimension 3\natom_style sph/elastic\n"
-                        "region box block 0 4 0 4 0 4\ncreate_box 1 box")
-    with pytest.raises(Exception, match=message):
-        lmp.command(command)
-    lmp.close()
+    assert_refused("units si\ndimension 3\natom_style sph/elastic\n"
+                   "region box block 0 4 0 4 0 4\ncreate_box 1 box", command, message)
 
 
 @pytest.mark.slow

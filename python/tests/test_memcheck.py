@@ -14,25 +14,12 @@ import pytest
 from esph.paths import lmp_binary
 from esph.runner import run_mpirun
 
-BLOCK = """
-units si
-dimension {dim}
-boundary {bnd}
-atom_style sph/elastic
-comm_modify vel yes
-lattice {lat} 0.001 origin 0.5 0.5 {oz}
-region box block 0 8 0 6 {zr}
-create_box 1 box
-create_atoms 1 box
-set group all volume 1e-9
-set group all mass 1e-6
-set group all mol 1
-displace_atoms all random 5e-5 5e-5 {dz} 1234 units box
-velocity all create 1e17 4928459 loop geom
-timestep 2e-8
-"""
-B2 = BLOCK.format(dim=2, bnd="p s p", lat="sq", oz=0.0, zr="-0.5 0.5", dz=0.0)
-B3 = BLOCK.format(dim=3, bnd="p p p", lat="sc", oz=0.5, zr="0 6", dz=5e-5)
+from conftest import jiggled_block
+
+B2 = jiggled_block(2, "p s p", "sq 0.001 origin 0.5 0.5 0.0", "0 8 0 6 -0.5 0.5", 0.0) + \
+    "timestep 2e-8\n"
+B3 = jiggled_block(3, "p p p", "sc 0.001 origin 0.5 0.5 0.5", "0 8 0 6 0 6", 5e-5) + \
+    "timestep 2e-8\n"
 
 INPUTS = {
     "icb_2d_contact": B2 + """

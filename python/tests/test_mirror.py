@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import by_id, make_lammps
+from conftest import make_lammps, restart_round_trip
 from esph.beam import BeamCase, run_beam
 from esph.runner import run_mpi
 
@@ -202,18 +202,10 @@ def test_restart_continuation_equals_uninterrupted(tmp_path):
     """
     lmp = make_lammps()
     lmp.commands_string(mirror_bar_commands(pair="stress corotated gradient quadratic"))
-    lmp.commands_string(dynamics + "run 300\n" + f"write_restart {rst}\nrun 300")
-    uninterrupted = by_id(lmp, "x")
-    lmp.close()
-
-    lmp = make_lammps()
-    lmp.commands_string(f"""
-        read_restart {rst}
-        fix rot all sph/rotation
-        fix clamp mirror sph/mirror x 0.0
-    """ + dynamics + "run 300")
-    continued = by_id(lmp, "x")
-    lmp.close()
+    lmp.commands_string(dynamics)
+    uninterrupted, continued = restart_round_trip(
+        lmp, rst, 300,
+        "fix rot all sph/rotation\nfix clamp mirror sph/mirror x 0.0\n" + dynamics + "run 300")
     assert np.abs(uninterrupted[:, 1] - uninterrupted[0, 1]).max() > 1e-7   # it bent
     assert np.abs(continued - uninterrupted).max() == 0.0
 

@@ -8,6 +8,8 @@ import pytest
 
 from esph.runner import launcher_race, run_mpi, run_mpirun
 
+from conftest import jiggled_block
+
 GEOMETRY = {
     2: ("sq 0.001 origin 0.5 0.5 0.0", "0 10 0 8 -0.5 0.5", 0.0),
     3: ("sc 0.001 origin 0.5 0.5 0.5", "0 8 0 6 0 6", 5e-5),
@@ -23,22 +25,7 @@ PAIRS = {
 def script(dim: int, scheme: str) -> str:
     lattice, region, dz = GEOMETRY[dim]
     pair = PAIRS[scheme].format(thick="thickness 0.001" if dim == 2 else "")
-    return f"""
-units si
-dimension {dim}
-boundary p p p
-atom_style sph/elastic
-atom_modify map array
-comm_modify vel yes
-lattice {lattice}
-region box block {region}
-create_box 1 box
-create_atoms 1 box
-set group all volume 1e-9
-set group all mass 1e-6
-set group all mol 1
-displace_atoms all random 5e-5 5e-5 {dz} 1234 units box
-velocity all create 1e17 4928459 loop geom
+    return jiggled_block(dim, "p p p", lattice, region, dz) + f"""
 # a drift of half the box in x over the run: every atom changes rank
 velocity all set 500.0 NULL NULL sum yes units box
 {pair}

@@ -540,8 +540,32 @@ void PairSPHICB::report_missing_partner(int i, int k) const
 
 const int *PairSPHICB::partner_indices(int i) const
 {
-  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal) return nullptr;
+  if (!partner_indices_current()) return nullptr;
   return &jlocal[i * partners->maxpartner];
+}
+
+/* ----------------------------------------------------------------------
+   true if jlocal was filled after the last neighbor list build, for the
+   atoms there are now
+------------------------------------------------------------------------- */
+
+bool PairSPHICB::partner_indices_current() const
+{
+  return jlocal_builds == neighbor->ncalls && jlocal_nlocal == atom->nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   the matrices and products of min_style sph/newton read the partner
+   indices and the deformation of the last compute(): an error if none
+   came after the last neighbor list build.  what: what needs them
+------------------------------------------------------------------------- */
+
+void PairSPHICB::require_current_partners(const char *what) const
+{
+  if (!partner_indices_current())
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: {} needs forces computed since the last neighbor list build",
+               what);
 }
 
 /* ----------------------------------------------------------------------
@@ -672,10 +696,7 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
 
 void PairSPHICB::hessian(const HessianSink &add) const
 {
-  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: the Hessian needs forces computed since the last neighbor "
-               "list build");
+  require_current_partners("the Hessian");
   const int mp = partners->maxpartner;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & mirror_groupbit)) strain_hessian(i, &jlocal[i * mp], add);
@@ -797,10 +818,7 @@ void PairSPHICB::refresh_tangents()
 
 void PairSPHICB::hessian_product(const double *v, double *kv)
 {
-  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: the Hessian product needs forces computed since the last "
-               "neighbor list build");
+  require_current_partners("the Hessian product");
   if (!vproduct) {
     memory->create(vproduct, nmax_work, 3, "pair:vproduct");
     memory->create(dqstress, nmax_work, 9, "pair:dqstress");
@@ -884,10 +902,7 @@ void PairSPHICB::product_stress_pass(int i)
 
 void PairSPHICB::spring_matrix(const HessianSink &add) const
 {
-  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: the spring matrix needs forces computed since the last "
-               "neighbor list build");
+  require_current_partners("the spring matrix");
   constexpr double ISOTROPIC = 0.1;
   const int dim = domain->dimension;
   const int mp = partners->maxpartner;

@@ -112,6 +112,8 @@ class PairSPHICB : public PairSPHElastic {
   double stable_fraction() const override { return gradient_order == 2 ? 0.5 : 0.8; }
   void report_minimize_residual();
   void refresh_partner_indices();
+  bool partner_indices_current() const;
+  void require_current_partners(const char *what) const;
   void report_missing_partner(int i, int k) const;
   void build_pairs();
   bool list_pairs(const std::vector<int> &order, bool directed);
