@@ -226,14 +226,29 @@ int MinSPHNewton::newton_loop(int maxiter)
 {
   const double escale = output->thermo->normflag ? 1.0 / atom->natoms : 1.0;
 
+  double fsq = fnorm_sqr(), fsq_previous = fsq, eta = ETA_MAX;
+  bool exact = false;
   for (int iter = 0; iter < maxiter; iter++) {
     if (timer->check_timeout(niter)) return TIMEOUT;
     const bigint ntimestep = ++update->ntimestep;
     niter++;
 
+    // an iterative solver stops at the Eisenstat-Walker forcing term
+    if (iter > 0 && !exact) eta = forcing_term(eta, fsq, fsq_previous);
+    solver->set_tolerance(exact ? 0.0 : eta);
     solver->assemble(*hessian);
     dofs->free_force(force_share);
     solver->solve(force_share, step);
+    // at a saddle (a straight bar beyond buckling) the plain Newton step
+    // keeps the symmetry and an inexact one breaks it, so the iterate falls
+    // to the buckled branch (measured on the truss at -7000 N): from the
+    // first negative curvature on, every step is solved to the solver's
+    // own tolerance, this one again
+    if (solver->indefinite() && !exact) {
+      exact = true;
+      solver->set_tolerance(0.0);
+      solver->solve(force_share, step);
+    }
     dofs->expand(step, h);
 
     double dot = 0.0, fdoth = 0.0;
@@ -244,6 +259,8 @@ int MinSPHNewton::newton_loop(int maxiter)
     eprevious = ecurrent;
     const int fail = line_search(escale * fdoth);
     if (fail) return fail;
+    fsq_previous = fsq;
+    fsq = fnorm_sqr();
 
     if (const int stop = stop_or_output(ntimestep, true)) return stop;
   }
@@ -433,14 +450,7 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
     const bigint ntimestep = ++update->ntimestep;
     niter++;
 
-    if (iter > 0) {
-      const double previous_eta = eta;
-      eta = 0.9 * phi / phi_previous;
-      // safeguard: do not let eta drop faster than it converges
-      if (0.9 * previous_eta * previous_eta > 0.1)
-        eta = std::max(eta, 0.9 * previous_eta * previous_eta);
-      eta = std::min(ETA_MAX, std::max(ETA_MIN, eta));
-    }
+    if (iter > 0) eta = forcing_term(eta, phi, phi_previous);
 
     // the differences and the line search start from here
     for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
@@ -520,6 +530,21 @@ void MinSPHNewton::jacobian_product(const std::vector<double> &v, std::vector<do
   nproducts++;
   whole_free_force(perturbed);
   for (size_t k = 0; k < v.size(); k++) jv[k] = (residual[k] - perturbed[k]) / eps;
+}
+
+/* ----------------------------------------------------------------------
+   Eisenstat and Walker's choice 2 from the squared force norms of this
+   and the previous iterate: eta = 0.9 |f_k|^2 / |f_k-1|^2, not below
+   0.9 previous_eta^2 while that is above 0.1 (it must not drop faster
+   than the iteration converges), within [ETA_MIN, ETA_MAX]
+------------------------------------------------------------------------- */
+
+double MinSPHNewton::forcing_term(double previous_eta, double fsq, double fsq_previous)
+{
+  double eta = fsq_previous > 0.0 ? 0.9 * fsq / fsq_previous : ETA_MAX;
+  if (0.9 * previous_eta * previous_eta > 0.1)
+    eta = std::max(eta, 0.9 * previous_eta * previous_eta);
+  return std::min(ETA_MAX, std::max(ETA_MIN, eta));
 }
 
 /* ----------------------------------------------------------------------

@@ -84,6 +84,7 @@ class MinSPHNewton : public MinLineSearch {
   int newton_krylov_loop(int);
   int residual_line_search(double phi0, double eta);
   void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
+  static double forcing_term(double previous_eta, double fsq, double fsq_previous);
   void precondition(const std::vector<double> &v, std::vector<double> &z);
   void whole_free_force(std::vector<double> &force);
   bool force_below_ftol();

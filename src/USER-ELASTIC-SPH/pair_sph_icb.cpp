@@ -37,6 +37,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -712,7 +713,6 @@ void PairSPHICB::hessian(const HessianSink &add) const
 
 void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) const
 {
-  const int dim = domain->dimension;
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
   const tagint *tag = atom->tag;
@@ -734,19 +734,31 @@ void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) co
       G[J] -= g[J];
     }
   }
+  stencil_hessian(atom->vfrac[i], &A[0][0][0][0], id, G, add);
+}
 
-  const double vi = atom->vfrac[i];
+/* ----------------------------------------------------------------------
+   the blocks V sum_JL A_aJbL G_k[J] G_l[L] of an energy V psi(F) whose
+   F = sum_k x_k (x) G_k runs over the stencil of atoms id[k]
+   (A = dP/dF as A[a][J][b][L], 81 doubles)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
+                                 const std::vector<double> &G, const HessianSink &add) const
+{
+  const int dim = domain->dimension;
+  const int n = static_cast<int>(id.size());
   double M[3][3][3], block[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  for (int k = 0; k <= n; k++) {
+  for (int k = 0; k < n; k++) {
     const double *Gk = &G[3 * k];
     for (int a = 0; a < dim; a++)
       for (int b = 0; b < dim; b++)
         for (int L = 0; L < dim; L++) {
           double sum = 0.0;
-          for (int J = 0; J < dim; J++) sum += A[a][J][b][L] * Gk[J];
-          M[a][b][L] = vi * sum;
+          for (int J = 0; J < dim; J++) sum += A[27 * a + 9 * J + 3 * b + L] * Gk[J];
+          M[a][b][L] = volume * sum;
         }
-    for (int l = 0; l <= n; l++) {
+    for (int l = 0; l < n; l++) {
       const double *Gl = &G[3 * l];
       for (int a = 0; a < dim; a++)
         for (int b = 0; b < dim; b++) {
@@ -931,6 +943,114 @@ void PairSPHICB::spring_matrix(const HessianSink &add) const
       add(tag[j], tag[i], minus);
     }
   }
+}
+
+/* ----------------------------------------------------------------------
+   the Hessian of the same energy with F_i from a compact stencil: the
+   linear least-squares gradient over atom i's nearest reference shell
+   (widened to the next shells where it does not span the dimension),
+   with atom i's tangent at the last compute().  On a lattice that is
+   central differences: like the SPH gradient, they vanish on the
+   checkerboard-modulated displacements, so this matrix has the soft
+   modes of K (the spring matrix has not), and its stencil is ~20 atoms
+   instead of the ~460 of K's in 3d.  Each owned atom sends its blocks.
+------------------------------------------------------------------------- */
+
+void PairSPHICB::compact_matrix(const HessianSink &add)
+{
+  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/icb: the compact matrix needs forces computed since the last "
+               "neighbor list build");
+  refresh_tangents();
+  const int mp = partners->maxpartner;
+  const tagint *tag = atom->tag;
+  std::vector<tagint> id;
+  std::vector<double> G;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & mirror_groupbit) && compact_stencil(i, &jlocal[i * mp], id, G)) {
+      for (size_t k = 1; k < id.size(); k++) id[k] = tag[id[k]];
+      id[0] = tag[i];
+      stencil_hessian(atom->vfrac[i], &tangents[81 * (size_t) i], id, G, add);
+    }
+    if (hourglass > 0.0) hourglass_hessian(i, &jlocal[i * mp], add);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   atom i's compact stencil: local indices of the shell's atoms in id[1..]
+   and the gradient weights G (slot 0: atom i, minus their sum).  The
+   shell grows by reference distance until its second moment spans the
+   dimension; false if no partners do
+------------------------------------------------------------------------- */
+
+bool PairSPHICB::compact_stencil(int i, const int *jl, std::vector<tagint> &id,
+                                 std::vector<double> &G) const
+{
+  constexpr double SHELL = 1.05;      // a shell: reference distances within 5 %
+  constexpr double SPANS = 1.0e-6;    // det M / (tr M / dim)^dim of a spanning shell
+  const int dim = domain->dimension;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+  auto distance = [&](int k) {
+    return pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+  };
+  std::vector<int> order(n);
+  for (int k = 0; k < n; k++) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return distance(a) < distance(b);
+  });
+
+  double M[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  int used = 0;
+  while (used < n) {
+    // add the next shell
+    const double edge = SHELL * distance(order[used]);
+    for (; used < n && distance(order[used]) <= edge; used++) {
+      const double *X = &pd[order[used] * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+      for (int a = 0; a < dim; a++)
+        for (int b = 0; b < dim; b++) M[a][b] += X[a] * X[b];
+    }
+    if (dim == 2) M[2][2] = 1.0;
+    const double trace = (M[0][0] + M[1][1] + (dim == 3 ? M[2][2] : 0.0)) / dim;
+    if (SPHElastic::det3(M) > SPANS * std::pow(trace, dim)) break;
+  }
+  const double det = SPHElastic::det3(M);
+  if (!(det > 0.0)) return false;
+  double Minv[3][3];
+  SPHElastic::inverse3(M, det, Minv);
+
+  id.assign(used + 1, 0);
+  G.assign(3 * (size_t) (used + 1), 0.0);
+  for (int s = 0; s < used; s++) {
+    const int k = order[s];
+    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+    id[s + 1] = jl[k];
+    for (int J = 0; J < dim; J++) {
+      const double g = Minv[J][0] * X[0] + Minv[J][1] * X[1] + Minv[J][2] * X[2];
+      G[3 * (s + 1) + J] = g;
+      G[J] -= g;
+    }
+  }
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   the spacing of the compact stencils: the smallest reference distance
+   between partners, over all ranks.  Collective
+------------------------------------------------------------------------- */
+
+double PairSPHICB::nearest_spacing() const
+{
+  double nearest = std::numeric_limits<double>::max();
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *pd = partners->pdata[i];
+    for (int k = 0; k < partners->npartner[i]; k++)
+      nearest = std::min(nearest, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
+  }
+  double all = nearest;
+  MPI_Allreduce(&nearest, &all, 1, MPI_DOUBLE, MPI_MIN, world);
+  return all;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -64,6 +64,13 @@ class PairSPHICB : public PairSPHElastic {
   // its null space: axial springs along the current bonds (an elastic body
   // of Poisson ratio 1/4), a preconditioner for K that is ~10x sparser
   void spring_matrix(const HessianSink &) const;
+  // the Hessian of the same energy with each F_i from central differences
+  // over its nearest shell: one-hop on that shell, with K's soft
+  // (checkerboard-modulated) modes, a preconditioner for K.  Not const: it
+  // caches the tangents
+  void compact_matrix(const HessianSink &);
+  // the smallest reference distance of two partners, over all ranks
+  double nearest_spacing() const;
   const int *partner_indices(int) const override;
   // number of inverted (det F <= 0) atoms at the last force computation,
   // over all ranks, with the ID, det F and type of one of them; collective
@@ -123,6 +130,9 @@ class PairSPHICB : public PairSPHElastic {
   double hourglass_pass(int i, const int *jl);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
+  void stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
+                       const std::vector<double> &G, const HessianSink &) const;
+  bool compact_stencil(int i, const int *jl, std::vector<tagint> &id, std::vector<double> &G) const;
   void hourglass_hessian(int i, const int *jl, const HessianSink &) const;
   void refresh_tangents();
   double **forward_array() const;

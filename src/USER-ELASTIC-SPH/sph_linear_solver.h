@@ -50,6 +50,9 @@ namespace SPHElastic {
     // reuse the factorisation (or preconditioner) of the first: Newton-
     // Krylov applies K^-1 to many vectors
     virtual void solve(const std::vector<double> &force_share, std::vector<double> &step) = 0;
+    // the relative residual at which an iterative solver may stop the
+    // solves that follow (an inexact Newton step); a direct one ignores it
+    virtual void set_tolerance(double /*relative*/) {}
     // true if the last K solved had negative eigenvalues (before any
     // modification): the iterate is near a saddle point, not a minimum
     virtual bool indefinite() const = 0;

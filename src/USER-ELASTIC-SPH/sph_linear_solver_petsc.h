@@ -24,12 +24,14 @@ namespace SPHElastic {
   /* ----------------------------------------------------------------------
      distributed solves with PETSc, on the ranks LAMMPS runs on.
      MATRIX_FREE: conjugate gradients on the Hessian product of pair
-       sph/icb (no matrix: the two-hop Hessian of a 3d body has ~4000
-       entries per row), preconditioned by algebraic multigrid (hypre's
-       BoomerAMG) on the one-hop spring matrix; MINRES for the plain Newton
-       step where the Hessian is indefinite.  The spring matrix lacks the
-       soft (hourglass-like) modes of the SPH Hessian: without hourglass
-       control CG needs ~1000 iterations on a 3d beam (measured).
+       sph/icb (no matrix: the two-hop Hessian of a 3d body has ~1400
+       entries per row), preconditioned by two-level multigrid on the
+       compact matrix of the pair (central differences over the nearest
+       shell, ~60 entries per row), which shares K's soft checkerboard-
+       modulated modes: aggregates are boxes of lattice sites carrying
+       those modes and the rotations (sph_petsc_aggregation.h).  Atoms off
+       a lattice: BoomerAMG on the spring matrix.  MINRES for the plain
+       Newton step where the Hessian is indefinite.
      MUMPS: the assembled Hessian (each rank adds its own entries, PETSc
        moves those of rows another rank owns) and MUMPS's parallel LDL^T.
      Where the step does not point downhill the diagonal is shifted.  PETSc
@@ -48,6 +50,7 @@ namespace SPHElastic {
     void reset(int nfree) override;
     void assemble(const FreeHessian &) override;
     void solve(const std::vector<double> &force_share, std::vector<double> &step) override;
+    void set_tolerance(double relative) override;
     bool indefinite() const override { return negative_curvature; }
     std::string summary() const override;
 
@@ -59,9 +62,19 @@ namespace SPHElastic {
     int n;
     bool negative_curvature;
     int nsolve, niterations, nshifted, nminres;
+    int nbuild;                  // multigrid hierarchies built
+    int naggregates, ncoarse;    // of the last multigrid on the compact matrix
+    double tolerance;            // relative residual of the Krylov solves
     double setup_time, solve_time;
 
     void create_solver();
+    void assemble_matrix(const FreeHessian &);
+    struct Lattice {
+      double spacing = 0.0, origin[3] = {0.0, 0.0, 0.0};
+      long extent[3] = {1, 1, 1};    // sites along each axis
+    };
+    bool find_lattice(const FreeHessian &, Lattice &) const;
+    void set_interpolation(const FreeHessian &, const Lattice &);
     bool solve_with(const char *ksp_type);
     void shift_diagonal(double);
   };

@@ -45,6 +45,8 @@ namespace SPHElastic {
     int index(bigint dof) const { return reduced[dof]; }
     // +1, or -1 for a mirror dof that moves against its source
     int sign(bigint dof) const { return dofsign[dof]; }
+    // true for a mirror atom's dof (it follows its source's free index)
+    bool is_tied(bigint dof) const { return tied[dof] != 0; }
 
     // this rank's share of the force on the free coordinates (length
     // nfree, zero elsewhere; their sum over ranks is the whole force).

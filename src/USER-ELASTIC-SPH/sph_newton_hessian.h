@@ -66,6 +66,32 @@ namespace SPHElastic {
       });
     }
 
+    // the same for T^T C T, C the compact matrix of pair sph/icb, which has
+    // K's soft modes (the preconditioner of the matrix-free product)
+    template <typename Add> void for_each_lower_compact_entry(Add &&add) const
+    {
+      pair.compact_matrix([&](tagint k, tagint l, const double(*block)[3]) {
+        map_lower(k, l, block, add);
+      });
+    }
+
+    // visit(i, a, r) for coordinate a of each owned atom i that is itself a
+    // free coordinate r (not held, not a mirror's copy): each free
+    // coordinate is visited once, on the rank that owns its atom
+    template <typename Visit> void for_each_own_free(Visit &&visit) const
+    {
+      const tagint *tag = atom->tag;
+      const int dim = dofs.dimension();
+      for (int i = 0; i < atom->nlocal; i++)
+        for (int a = 0; a < dim; a++) {
+          const bigint dof = (tag[i] - 1) * dim + a;
+          const int r = dofs.index(dof);
+          if (r >= 0 && !dofs.is_tied(dof)) visit(i, a, r);
+        }
+    }
+
+    double nearest_spacing() const { return pair.nearest_spacing(); }
+
     // the free coordinates that this rank's owned atoms follow, sorted
     std::vector<int> needed_indices() const
     {
