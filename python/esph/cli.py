@@ -49,7 +49,7 @@ def cmd_bench(args) -> int:
 
 def cmd_bench3d(args) -> int:
     bench3d.bench3d(_floats(args.dx), _ints(args.np),
-                    _names(args.solvers, bench3d.SOLVERS, "solver"), args.layers, args.timeout)
+                    _names(args.solvers, bench3d.SOLVERS, "solver"), args.side, args.timeout)
     return 0
 
 
@@ -141,14 +141,14 @@ def main(argv=None) -> int:
 
     b3d = sub.add_parser("bench3d", help="3D cantilever statics per linear solver: iterations, "
                          "time, memory per rank, ratio to 100 dynamic steps")
-    b3d.add_argument("--dx", default="0.002", help="comma-separated spacings in m (0.002; "
-                     "0.001 is the 81k-atom case)")
+    b3d.add_argument("--dx", default="0.002", help="comma-separated spacings in m (0.002: 10k "
+                     "atoms; 0.001 is the 81k-atom case)")
     b3d.add_argument("--np", default="1,2", help="comma-separated MPI rank counts (1,2; add 4 "
                      "to oversubscribe for communication volume)")
     b3d.add_argument("--solvers", default=",".join(bench3d.SOLVERS),
                      help="comma-separated min_modify solver values: " + ", ".join(bench3d.SOLVERS))
-    b3d.add_argument("--layers", type=int, default=10,
-                     help="particles across the square section (10): H = W = layers*dx, L = 10 H")
+    b3d.add_argument("--side", type=float, default=0.02,
+                     help="side of the square section in m (0.02): H = W = side, L = 10 H")
     b3d.add_argument("--timeout", type=float, default=1800, help="seconds per run (1800)")
     b3d.set_defaults(func=cmd_bench3d)
 

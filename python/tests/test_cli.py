@@ -83,7 +83,7 @@ def test_figures_writes_beam_snapshots(tmp_path):
 def test_bench3d_rows_for_each_solver():
     """One row per linear solver, each with the body's atom count, the
     Newton iterations and a measured peak memory per rank."""
-    proc = run_cli("bench3d", "--dx", "0.0025", "--layers", "4", "--np", "1")
+    proc = run_cli("bench3d", "--dx", "0.0025", "--side", "0.01", "--np", "1")
     assert proc.returncode == 0, proc.stderr
     rows = [line.split() for line in proc.stdout.splitlines()
             if len(line.split()) > 3 and line.split()[3] in ("direct", "mumps", "petsc")]
