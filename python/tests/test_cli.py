@@ -89,7 +89,10 @@ def test_bench3d_rows_for_each_solver():
             if len(line.split()) > 3 and line.split()[3] in ("direct", "mumps", "petsc")]
     assert [r[3] for r in rows] == ["direct", "mumps", "petsc"]
     for r in rows:
-        assert int(r[1]) == 688 and int(r[4]) == 7        # atoms, Newton iterations
+        assert int(r[1]) == 688                            # atoms
+        # Newton iterations: CG (petsc) stops at the forcing term (inexact
+        # Newton), so it may take more, not more than twice as many
+        assert int(r[4]) == 7 if r[3] != "petsc" else 7 <= int(r[4]) <= 14
         assert 10.0 < float(r[6]) < 4000.0                 # MB per rank, measured
 
 

@@ -392,7 +392,12 @@ void PetscLinearSolver::set_interpolation(const FreeHessian &hessian, const Latt
     error->all(FLERR, Error::NOLASTLINE,
                "Min_style sph/newton: PETSc option -sph_aggregate_size must be at least 2");
 
-  // as many boxes along an axis as fit best, of sizes that differ by one at most
+  // as many boxes along an axis as fit best, of sizes that differ by one
+  // at most, placed symmetrically about the body's middle: box k holds
+  // the sites n with k <= (n + 1/2) cells / extent < k + 1.  A body with a
+  // mirror symmetry then gets a preconditioner with it, and CG steps keep
+  // the symmetry that the plain Newton step keeps (measured: boxes of
+  // sizes 4, 3, 3 across a compressed bar left it 7e-11 m off straight)
   long cells[3];
   for (int a = 0; a < 3; a++)
     cells[a] = std::max(1L, std::lround(static_cast<double>(lattice.extent[a]) / size));
@@ -405,10 +410,11 @@ void PetscLinearSolver::set_interpolation(const FreeHessian &hessian, const Latt
     double centre[3] = {0.0, 0.0, 0.0};
     for (int b = 0; b < dim; b++) {
       n[b] = std::lround((x0[i][b] - lattice.origin[b]) / lattice.spacing);
-      cell[b] = n[b] * cells[b] / lattice.extent[b];
-      const long near = (cell[b] * lattice.extent[b] + cells[b] - 1) / cells[b];
-      const long far = ((cell[b] + 1) * lattice.extent[b] + cells[b] - 1) / cells[b];
-      centre[b] = lattice.origin[b] + 0.5 * (near + far - 1) * lattice.spacing;
+      const double per_site = static_cast<double>(cells[b]) / lattice.extent[b];
+      cell[b] = static_cast<long>(std::floor((n[b] + 0.5) * per_site));
+      const double near = std::ceil(cell[b] / per_site - 0.5);
+      const double far = std::ceil((cell[b] + 1) / per_site - 0.5);
+      centre[b] = lattice.origin[b] + 0.5 * (near + far - 1.0) * lattice.spacing;
     }
     int m = 0;
     for (int axes = 0; axes < (1 << dim); axes++) {
