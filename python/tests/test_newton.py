@@ -199,7 +199,7 @@ def test_petsc_multigrid_on_the_compact_matrix_takes_few_cg_iterations():
     counts = []
     for nprocs in (1, 2):
         out = run_mpi(BEAM3D, {**variables, "linear": "petsc"}, nprocs)
-        assert "multigrid on the compact matrix: 13 aggregates" in out.log
+        assert re.search(r"multigrid on the compact matrix: \d+ aggregates", out.log)
         counts.append(int(KRYLOV.search(out.log).group(1)))
         assert out.variables["tip_dv"] == pytest.approx(direct["tip_dv"], rel=1e-9)
     assert max(counts) < 600
