@@ -45,7 +45,8 @@ namespace SPHElastic {
    an unsymmetric Jacobian J: Newton-Krylov solves J step = f by flexible
    GMRES on finite-difference products J v, preconditioned by the pk1
    Hessian H (the same elastic law and, to first order in the strain, the
-   same Jacobian), and backtracks on |f|^2.
+   same Jacobian), and backtracks on |f|^2.  With hourglass control the
+   pk1 step is solved by the same GMRES on exact Hessian products.
 ------------------------------------------------------------------------- */
 
 class MinSPHNewton : public MinLineSearch {
@@ -70,13 +71,15 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<double> residual;     // the whole free force at the iterate, on every rank
   std::vector<double> perturbed;    // the same at iterate + eps v
   double fd_length;                 // largest coordinate change of a difference product
-  bigint nkrylov, nproducts;        // GMRES iterations and force calls for J v, this run
+  bigint nkrylov, nproducts;        // GMRES iterations and their products, this run
 
   int keyword_choice(int narg, char **arg,
                      std::initializer_list<std::pair<const char *, int>> choices);
   void check_style();
   void start();
   int newton_loop(int);
+  void newton_step(double tol);
+  void exact_hessian_product(const std::vector<double> &v, std::vector<double> &hv);
   int line_search(double fdoth);
   int abandon_step(bool all_inverted, const std::string &reason);
   bool trial_inverts() const;

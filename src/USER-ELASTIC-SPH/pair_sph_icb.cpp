@@ -72,7 +72,7 @@ enum { COMM_DEFGRAD, COMM_QSTRESS, COMM_PRODUCT_V, COMM_PRODUCT_Q };
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
     npairs(0), maxpairs(0), directed_pairs(false), pair_atoms(nullptr), pair_g(nullptr),
-    vproduct(nullptr), dqstress(nullptr), ncompute(0), tangents_stamp(-1)
+    vproduct(nullptr), dqstress(nullptr), dfproduct(nullptr), ncompute(0), tangents_stamp(-1)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
@@ -100,6 +100,7 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(pair_g);
   memory->destroy(vproduct);
   memory->destroy(dqstress);
+  memory->destroy(dfproduct);
 }
 
 /* ----------------------------------------------------------------------
@@ -317,6 +318,7 @@ void PairSPHICB::grow_work()
       memory->create(vproduct, nmax_work, 3, "pair:vproduct");
       memory->create(dqstress, nmax_work, 9, "pair:dqstress");
     }
+    memory->destroy(dfproduct);    // created again by the next product that needs it
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -822,8 +824,9 @@ void PairSPHICB::refresh_tangents()
 
 /* ----------------------------------------------------------------------
    K v as the force is computed, linearised: dF_i = sum_j (v_j - v_i) (x) g_ij,
-   dQ_i = V_i A_i : dF_i, (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji); with
-   hourglass control the spring part of hessian(), sum_j k_ij (v_i - v_j).
+   dQ_i = V_i A_i : dF_i, (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji).  The
+   hourglass energy is quadratic in x, so its part is exact too: the
+   hourglass force of hourglass_pass() with x replaced by v and F by dF.
    About the cost of one force computation, and no matrix of two-hop
    blocks (hundreds per atom in 3d) to store.
 ------------------------------------------------------------------------- */
@@ -851,28 +854,58 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
     pair_gradients<2>(vproduct, dqstress);
   else
     pair_gradients<3>(vproduct, dqstress);
+  // the hourglass terms need dF on the ghosts as well, kept apart from dQ
+  if (hourglass > 0.0) {
+    comm_what = COMM_PRODUCT_Q;
+    comm->forward_comm(this);
+    const int nall = nlocal + atom->nghost;
+    if (!dfproduct) memory->create(dfproduct, nmax_work, 9, "pair:dfproduct");
+    for (int i = 0; i < nall; i++)
+      for (int a = 0; a < 9; a++) dfproduct[i][a] = dqstress[i][a];
+  }
   for (int i = 0; i < nlocal; i++) product_stress_pass(i);
+  std::vector<double> springs;
+  if (hourglass > 0.0) {
+    springs.assign(3 * (size_t) nlocal, 0.0);
+    for (int i = 0; i < nlocal; i++) hourglass_product_pass(i, &jlocal[i * mp], &springs[3 * i]);
+  }
   comm_what = COMM_PRODUCT_Q;
   comm->forward_comm(this);
 
-  for (int i = 0; i < 3 * nlocal; i++) kv[i] = 0.0;
+  for (int i = 0; i < 3 * nlocal; i++) kv[i] = springs.empty() ? 0.0 : springs[i];
   if (two_d)
     pair_divergence<2, false>(dqstress, kv);
   else
     pair_divergence<3, false>(dqstress, kv);
+}
 
-  // the springs of hourglass_hessian(): each pair is visited from both atoms
-  if (hourglass > 0.0) {
-    const int *type = atom->type;
-    for (int i = 0; i < nlocal; i++) {
-      const double *pd = partners->pdata[i];
-      const int *jl = &jlocal[i * mp];
-      for (int k = 0; k < partners->npartner[i]; k++) {
-        const int j = jl[k];
-        const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-            pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
-        for (int a = 0; a < 3; a++) kv[3 * i + a] += kij * (vproduct[i][a] - vproduct[j][a]);
-      }
+/* ----------------------------------------------------------------------
+   hourglass_pass() linearised: with d_ij = v_j - v_i - (dF_i + dF_j)/2 X_ij,
+   dQ_i -= 1/2 k_ij d_ij (x) X_ij and (K v)_i -= k_ij d_ij (into kv_i)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::hourglass_product_pass(int i, const int *jl, double *kv_i)
+{
+  const int *type = atom->type;
+  const int n = partners->npartner[i];
+  const double *pd = partners->pdata[i];
+  const double *dFi = dfproduct[i];
+  double *dQ = dqstress[i];
+  for (int k = 0; k < n; k++) {
+    const int j = jl[k];
+    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    const double *dFj = dfproduct[j];
+    double d[3];
+    for (int a = 0; a < 3; a++) {
+      double fx = 0.0;
+      for (int b = 0; b < 3; b++) fx += (dFi[3 * a + b] + dFj[3 * a + b]) * X[b];
+      d[a] = vproduct[j][a] - vproduct[i][a] - 0.5 * fx;
+    }
+    for (int a = 0; a < 3; a++) {
+      for (int b = 0; b < 3; b++) dQ[3 * a + b] -= 0.5 * kij * d[a] * X[b];
+      kv_i[a] -= kij * d[a];
     }
   }
 }
@@ -1125,5 +1158,6 @@ double PairSPHICB::memory_usage()
   double bytes = PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
       (double) maxlocal * sizeof(int) + (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double));
   if (vproduct) bytes += (double) nmax_work * 12 * sizeof(double);
+  if (dfproduct) bytes += (double) nmax_work * 9 * sizeof(double);
   return bytes + (double) tangents.capacity() * sizeof(double);
 }

@@ -52,10 +52,11 @@ class PairSPHICB : public PairSPHElastic {
   // finds the pk1 equilibrium of the same law as a corotated start
   int stress_measure() const { return measure; }
   void set_stress_measure(int m) { measure = m; }
-  // true if hessian() is exact (without hourglass control); else it is an SPD approximation
+  // true if hessian() is exact (without hourglass control); else it is an SPD
+  // approximation, and only hessian_product() is exact
   bool hessian_is_exact() const { return hourglass == 0.0; }
   void hessian(const HessianSink &) const;
-  // K v with K the matrix of hessian(), computed as the force is, in two
+  // K v with K the exact Hessian (hourglass control included), computed as the force is, in two
   // sweeps, without assembling K: v and kv hold 3 values per owned atom.
   // Collective (v and the stress increment reach the ghosts by forward comm)
   void hessian_product(const double *v, double *kv);
@@ -107,6 +108,7 @@ class PairSPHICB : public PairSPHElastic {
   // tangent A = dP/dF at the last compute() (81 doubles), computed once
   double **vproduct;
   double **dqstress;
+  double **dfproduct;    // dF of owned and ghost atoms, with hourglass control
   std::vector<double> tangents;
   bigint ncompute;          // compute() calls so far
   bigint tangents_stamp;    // ncompute when tangents were filled
@@ -137,6 +139,7 @@ class PairSPHICB : public PairSPHElastic {
   void refresh_tangents();
   double **forward_array() const;
   void product_stress_pass(int i);
+  void hourglass_product_pass(int i, const int *jl, double *kv_i);
 };
 
 }    // namespace LAMMPS_NS

@@ -53,6 +53,9 @@ namespace SPHElastic {
     // the relative residual at which an iterative solver may stop the
     // solves that follow (an inexact Newton step); a direct one ignores it
     virtual void set_tolerance(double /*relative*/) {}
+    // true if solve() works on the exact matrix-free products of
+    // FreeHessian::product() (K only preconditions it)
+    virtual bool matrix_free() const { return false; }
     // true if the last K solved had negative eigenvalues (before any
     // modification): the iterate is near a saddle point, not a minimum
     virtual bool indefinite() const = 0;

@@ -52,6 +52,7 @@ namespace SPHElastic {
     void solve(const std::vector<double> &force_share, std::vector<double> &step) override;
     void set_tolerance(double relative) override;
     bool indefinite() const override { return negative_curvature; }
+    bool matrix_free() const override { return method == MATRIX_FREE; }
     std::string summary() const override;
 
     struct Objects;    // PETSc's matrices, vectors and solver (in the .cpp)
