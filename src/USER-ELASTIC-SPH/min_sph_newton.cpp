@@ -298,6 +298,11 @@ void MinSPHNewton::newton_step(double tol)
   const KrylovResult krylov =
       flexible_gmres(apply_hessian, apply_preconditioner, residual, step, tol, MAXKRYLOV_PRODUCT);
   nkrylov += krylov.iterations;
+  // where H is indefinite GMRES may return an uphill step; the factorised
+  // matrix was made positive definite by the solver, so its step is downhill
+  double fdotstep = 0.0;
+  for (size_t k = 0; k < step.size(); k++) fdotstep += residual[k] * step[k];
+  if (fdotstep <= 0.0) precondition(residual, step);
 }
 
 /* ----------------------------------------------------------------------
