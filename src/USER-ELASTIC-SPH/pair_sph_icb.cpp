@@ -647,6 +647,19 @@ double PairSPHICB::stress_pass(int i)
 }
 
 /* ----------------------------------------------------------------------
+   E_ij w_ij of atom i's k-th partner j: the mean Young's modulus times the
+   hourglass weight w_ij = (V_i |g_ij| + V_j |g_ji|) / (2 r0), a stiffness
+   with K's scale (the hourglass springs are alpha times it)
+------------------------------------------------------------------------- */
+
+double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
+{
+  const int *type = atom->type;
+  return 0.5 * (youngs[type[i]] + youngs[type[j]]) *
+      pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+}
+
+/* ----------------------------------------------------------------------
    hourglass control as an energy, exact gradient included:
      E_hg = 1/4 sum_i sum_j k_ij |d_ij|^2,  d_ij = x_j - x_i - (F_i + F_j)/2 X_ij
    zero for any affine motion.  Its F dependence acts like a stress,
@@ -659,7 +672,6 @@ double PairSPHICB::stress_pass(int i)
 double PairSPHICB::hourglass_pass(int i, const int *jl)
 {
   const double *const *const x = atom->x;
-  const int *type = atom->type;
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
   const double *Fi = defgrad[i];
@@ -669,8 +681,7 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
   for (int k = 0; k < n; k++) {
     const int j = jl[k];
     const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    const double kij = hourglass * bond_stiffness(i, j, pd, k);
     const double *Fj = defgrad[j];
     double d[3];
     for (int a = 0; a < 3; a++) {
@@ -780,13 +791,11 @@ void PairSPHICB::stencil_hessian(double volume, const double *A, const std::vect
 void PairSPHICB::hourglass_hessian(int i, const int *jl, const HessianSink &add) const
 {
   const int dim = domain->dimension;
-  const int *type = atom->type;
   const tagint *tag = atom->tag;
   const double *pd = partners->pdata[i];
   for (int k = 0; k < partners->npartner[i]; k++) {
     const int j = jl[k];
-    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    const double kij = hourglass * bond_stiffness(i, j, pd, k);
     double plus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     double minus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     for (int a = 0; a < dim; a++) {
@@ -886,7 +895,6 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
 
 void PairSPHICB::hourglass_product_pass(int i, const int *jl, double *kv_i)
 {
-  const int *type = atom->type;
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
   const double *dFi = dfproduct[i];
@@ -894,8 +902,7 @@ void PairSPHICB::hourglass_product_pass(int i, const int *jl, double *kv_i)
   for (int k = 0; k < n; k++) {
     const int j = jl[k];
     const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-    const double kij = hourglass * 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-        pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+    const double kij = hourglass * bond_stiffness(i, j, pd, k);
     const double *dFj = dfproduct[j];
     double d[3];
     for (int a = 0; a < 3; a++) {
@@ -952,14 +959,12 @@ void PairSPHICB::spring_matrix(const HessianSink &add) const
   const int dim = domain->dimension;
   const int mp = partners->maxpartner;
   const double *const *const x = atom->x;
-  const int *type = atom->type;
   const tagint *tag = atom->tag;
   for (int i = 0; i < atom->nlocal; i++) {
     const double *pd = partners->pdata[i];
     for (int k = 0; k < partners->npartner[i]; k++) {
       const int j = jlocal[i * mp + k];
-      const double kij = 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-          pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+      const double kij = bond_stiffness(i, j, pd, k);
       double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
       const double r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
       if (r > 0.0)

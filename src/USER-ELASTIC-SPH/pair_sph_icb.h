@@ -129,6 +129,7 @@ class PairSPHICB : public PairSPHElastic {
   template <int DIM> void pair_gradients(const double *const *field, double *const *grad) const;
   template <int DIM, bool FORCE> void pair_divergence(const double *const *q, double *out);
   double stress_pass(int i);
+  double bond_stiffness(int i, int j, const double *pd, int k) const;
   double hourglass_pass(int i, const int *jl);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
