@@ -660,6 +660,23 @@ double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
 }
 
 /* ----------------------------------------------------------------------
+   d = u_j - u_i - (G_i + G_j)/2 X of a field u with gradients G (3x3
+   row-major): the hourglass mismatch of the positions (u = x, G = F) or,
+   linearised, of a displacement (u = v, G = dF)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const double *const *u,
+                                    const double *const *grad, double *d) const
+{
+  const double *Gi = grad[i], *Gj = grad[j];
+  for (int a = 0; a < 3; a++) {
+    double gx = 0.0;
+    for (int b = 0; b < 3; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
+    d[a] = u[j][a] - u[i][a] - 0.5 * gx;
+  }
+}
+
+/* ----------------------------------------------------------------------
    hourglass control as an energy, exact gradient included:
      E_hg = 1/4 sum_i sum_j k_ij |d_ij|^2,  d_ij = x_j - x_i - (F_i + F_j)/2 X_ij
    zero for any affine motion.  Its F dependence acts like a stress,
@@ -674,7 +691,6 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
   const double *const *const x = atom->x;
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
-  const double *Fi = defgrad[i];
   double *Q = qstress[i];
   double energy = 0.0;
 
@@ -682,14 +698,8 @@ double PairSPHICB::hourglass_pass(int i, const int *jl)
     const int j = jl[k];
     const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
     const double kij = hourglass * bond_stiffness(i, j, pd, k);
-    const double *Fj = defgrad[j];
     double d[3];
-    for (int a = 0; a < 3; a++) {
-      const double fx = 0.5 *
-          ((Fi[3 * a] + Fj[3 * a]) * X[0] + (Fi[3 * a + 1] + Fj[3 * a + 1]) * X[1] +
-           (Fi[3 * a + 2] + Fj[3 * a + 2]) * X[2]);
-      d[a] = x[j][a] - x[i][a] - fx;
-    }
+    hourglass_mismatch(i, j, X, x, defgrad, d);
     energy += 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) Q[3 * a + b] -= 0.5 * kij * d[a] * X[b];
@@ -897,19 +907,13 @@ void PairSPHICB::hourglass_product_pass(int i, const int *jl, double *kv_i)
 {
   const int n = partners->npartner[i];
   const double *pd = partners->pdata[i];
-  const double *dFi = dfproduct[i];
   double *dQ = dqstress[i];
   for (int k = 0; k < n; k++) {
     const int j = jl[k];
     const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
     const double kij = hourglass * bond_stiffness(i, j, pd, k);
-    const double *dFj = dfproduct[j];
     double d[3];
-    for (int a = 0; a < 3; a++) {
-      double fx = 0.0;
-      for (int b = 0; b < 3; b++) fx += (dFi[3 * a + b] + dFj[3 * a + b]) * X[b];
-      d[a] = vproduct[j][a] - vproduct[i][a] - 0.5 * fx;
-    }
+    hourglass_mismatch(i, j, X, vproduct, dfproduct, d);
     for (int a = 0; a < 3; a++) {
       for (int b = 0; b < 3; b++) dQ[3 * a + b] -= 0.5 * kij * d[a] * X[b];
       kv_i[a] -= kij * d[a];

@@ -130,6 +130,8 @@ class PairSPHICB : public PairSPHElastic {
   template <int DIM, bool FORCE> void pair_divergence(const double *const *q, double *out);
   double stress_pass(int i);
   double bond_stiffness(int i, int j, const double *pd, int k) const;
+  void hourglass_mismatch(int i, int j, const double *X, const double *const *u,
+                          const double *const *grad, double *d) const;
   double hourglass_pass(int i, const int *jl);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
