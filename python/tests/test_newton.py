@@ -36,7 +36,10 @@ def newton_run(tmp_path, variables, name="newton"):
 
 @pytest.mark.parametrize("grad,clamp", [("quadratic", "mirror"), ("linear", "fixed")])
 def test_newton_converges_quadratically_to_the_cg_equilibrium(tmp_path, grad, clamp):
-    variables = {"grad": grad, "clamp": clamp}
+    """The factorised Hessian is exact without hourglass control: Newton
+    squares the residual.  (With it, the default, each step is an inexact
+    GMRES solve: test_hourglass_control_newton_converges_as_without_it.)"""
+    variables = {"grad": grad, "clamp": clamp, "hg": 0.0}
     newton, log = newton_run(tmp_path, {**variables, "solver": "newton", "ftol": 1e-10})
     norms = [f / abs(LOAD) for f in force_norms(log)]
     assert norms[-1] < 1e-10
@@ -153,16 +156,17 @@ def test_distributed_solvers_reach_the_direct_solve_equilibrium(linear):
             assert direct["steps"] <= out.variables["steps"] <= 2 * direct["steps"]
 
 
+@pytest.mark.parametrize("hg", [0.0, 0.2])
 @pytest.mark.parametrize("linear", ["petsc", "mumps"])
-def test_distributed_solver_saddle_is_reported(tmp_path, linear):
+def test_distributed_solver_saddle_is_reported(tmp_path, linear, hg):
     """Beyond buckling the straight bar is a saddle point.  As the direct
     solve does, MUMPS's LDL^T and MINRES (after CG meets negative curvature)
     give the plain Newton step, which keeps the bar straight: the exact
     compressed length, and the saddle reported."""
     log = tmp_path / "truss.log"
     out = run_script(TRUSS, {"Fx": -7000.0, "dx": 0.005, "grad": "quadratic", "clamp": "mirror",
-                             "solver": "newton", "linear": linear}, read=["tip_dh", "tip_dv"],
-                     log=log)
+                             "solver": "newton", "linear": linear, "hg": hg},
+                     read=["tip_dh", "tip_dv"], log=log)
     text = log.read_text()
     assert "PETSc" in text
     assert "equilibrium is unstable (a saddle point" in text
@@ -258,15 +262,19 @@ def test_unknown_linear_solver_is_an_error():
         run_script(BEAM, {**COARSE, "solver": "newton", "linear": "superlu"}, read=["tip_dv"])
 
 
-@pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])
-def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, saddle):
-    """The bar buckles near -1.3 kN.  Newton keeps a symmetric bar straight
-    (the force has no bending part), converges to the straight equilibrium
-    in a few steps, and says when it is unstable (negative pivots)."""
+@pytest.mark.parametrize("hg", [0.0, 0.2])
+@pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-1200.0, False), (-1400.0, True),
+                                         (-7000.0, True)])
+def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, saddle, hg):
+    """The bar buckles between -1.2 and -1.4 kN.  Newton keeps a symmetric
+    bar straight (the force has no bending part), converges to the straight
+    equilibrium in a few steps, and says when it is unstable: by negative
+    pivots, or with hourglass control (whose factorised spring part stays
+    positive definite there) by Lanczos on the exact Hessian."""
     dx = 0.005
     log = tmp_path / "truss.log"
     out = run_script(TRUSS, {"Fx": load, "dx": dx, "grad": "quadratic", "clamp": "mirror",
-                             "solver": "newton"}, read=["tip_dh", "tip_dv"], log=log)
+                             "solver": "newton", "hg": hg}, read=["tip_dh", "tip_dv"], log=log)
     text = log.read_text()
     assert ("equilibrium is unstable (a saddle point" in text) == saddle
     assert out.steps <= 8
@@ -287,6 +295,10 @@ def test_hourglass_control_newton_converges_as_without_it(tmp_path):
     norms = [f / abs(LOAD) for f in force_norms(log)]
     assert norms[-1] < 1e-10
     assert len(norms) - 1 <= 10, norms
+    # superlinear: the forcing term tightens as the residual falls, so each
+    # of the last steps cuts it by more than the one before
+    ratios = [g1 / g0 for g0, g1 in zip(norms[-4:], norms[-3:])]
+    assert ratios[0] < 1e-2 and ratios[1] < ratios[0] and ratios[2] < ratios[1], norms
     cg, _ = newton_run(tmp_path, {**variables, "solver": "cg", "thermo_every": 1000}, "cg")
     assert cg.steps > 20 * newton.steps
     for key in ("tip_dh", "tip_dv"):

@@ -45,6 +45,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <random>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
@@ -66,6 +67,13 @@ constexpr int MAXKRYLOV = 60;
 // GMRES on the exact Hessian products with hourglass control (without
 // restarts: this many vectors of the free coordinates on every rank)
 constexpr int MAXKRYLOV_PRODUCT = 200;
+// the pk1 Hessian's inverse that preconditions the corotated Jacobian
+// needs no more than this relative residual
+constexpr double PK1_INVERSE_TOL = 1.0e-1;
+// the saddle test with hourglass control: Lanczos until the smallest Ritz
+// value settles to LANCZOS_TOL of itself, at most MAXLANCZOS products
+constexpr double LANCZOS_TOL = 1.0e-3;
+constexpr int MAXLANCZOS = 100;
 const double FD_RELATIVE = std::sqrt(DBL_EPSILON);
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
 enum SolverChoice { DIRECT, PETSC, MUMPS };
@@ -75,7 +83,8 @@ enum SolverChoice { DIRECT, PETSC, MUMPS };
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO), backend(DIRECT),
-    nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0), nproducts(0)
+    nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0), nproducts(0), nkrylov_hessian(0),
+    nproducts_hessian(0)
 {
 }
 
@@ -174,24 +183,22 @@ int MinSPHNewton::iterate(int maxiter)
 
   start();
   nroundoff = 0;
-  nkrylov = nproducts = 0;
+  nkrylov = nproducts = nkrylov_hessian = nproducts_hessian = 0;
   const int stop = pair->has_energy() ? newton_loop(maxiter) : corotated_loop(maxiter);
   const std::string summary = solver->summary();
   if (!summary.empty() && comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: {}\n", summary);
+  if (nkrylov_hessian && comm->me == 0)
+    utils::logmesg(lmp,
+                   "  min_style sph/newton: hourglass control: {} GMRES iterations on {} exact "
+                   "Hessian products, preconditioned by the assembled spring part\n",
+                   nkrylov_hessian, nproducts_hessian);
   if (!pair->has_energy() && comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: {} GMRES iterations, {} force calls for their "
                    "products J v\n",
                    nkrylov, nproducts);
-  else if (nkrylov && comm->me == 0)
-    utils::logmesg(lmp,
-                   "  min_style sph/newton: hourglass control: {} GMRES iterations on {} exact "
-                   "Hessian products, preconditioned by the assembled spring part\n",
-                   nkrylov, nproducts);
-  // (for the corotated stress the Hessian is only the preconditioner: its
-  // inertia says nothing about the stability of the corotated equilibrium)
-  if (pair->has_energy() && solver->indefinite() && comm->me == 0)
+  if (saddle_point() && comm->me == 0)
     error->warning(FLERR,
                    "Min_style sph/newton: the Hessian at the last iterate has negative "
                    "eigenvalues: this equilibrium is unstable (a saddle point, such as a straight "
@@ -297,12 +304,52 @@ void MinSPHNewton::newton_step(double tol)
   whole_free_force(residual);
   const KrylovResult krylov =
       flexible_gmres(apply_hessian, apply_preconditioner, residual, step, tol, MAXKRYLOV_PRODUCT);
-  nkrylov += krylov.iterations;
+  nkrylov_hessian += krylov.iterations;
   // where H is indefinite GMRES may return an uphill step; the factorised
   // matrix was made positive definite by the solver, so its step is downhill
   double fdotstep = 0.0;
   for (size_t k = 0; k < step.size(); k++) fdotstep += residual[k] * step[k];
   if (fdotstep <= 0.0) precondition(residual, step);
+}
+
+/* ----------------------------------------------------------------------
+   whether the Hessian at the last iterate has negative eigenvalues.  A
+   factorised exact Hessian tells by its pivots.  With hourglass control
+   the factorised matrix is only the spring part, which can be positive
+   definite where the exact Hessian is not (the straight truss beyond
+   buckling at hg 0.2): there Lanczos on the exact products, in the metric
+   of the factorisation, looks for a negative eigenvalue, from a random
+   start because the force of a symmetric body has no part along the
+   antisymmetric buckling mode.  For the corotated stress the Hessian is
+   only a preconditioner, and its inertia says nothing about stability.
+------------------------------------------------------------------------- */
+
+bool MinSPHNewton::saddle_point()
+{
+  if (!pair->has_energy()) return false;
+  if (solver->indefinite()) return true;
+  if (pair->hessian_is_exact() || solver->matrix_free()) return false;
+
+  // the same start on every rank, and on any number of ranks
+  std::vector<double> start(dofs->nfree());
+  std::mt19937 generator(12345);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (double &value : start) value = uniform(generator);
+  const LinearMap apply_hessian = [this](const std::vector<double> &v, std::vector<double> &hv) {
+    exact_hessian_product(v, hv);
+  };
+  const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
+                                                std::vector<double> &z) {
+    precondition(v, z);
+  };
+  const EigenvalueEstimate estimate =
+      lowest_eigenvalue(apply_hessian, apply_preconditioner, start, LANCZOS_TOL, MAXLANCZOS);
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "  min_style sph/newton: hourglass control: smallest eigenvalue of the exact "
+                   "Hessian relative to the spring part {:.6g} ({} Lanczos iterations)\n",
+                   estimate.lowest, estimate.iterations);
+  return estimate.lowest < -LANCZOS_TOL * std::fabs(estimate.largest);
 }
 
 /* ----------------------------------------------------------------------
@@ -323,7 +370,7 @@ void MinSPHNewton::exact_hessian_product(const std::vector<double> &v, std::vect
   hv.resize(v.size());
   MPI_Allreduce(force_share.data(), hv.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM,
                 world);
-  nproducts++;
+  nproducts_hessian++;
 }
 
 /* ----------------------------------------------------------------------
@@ -498,7 +545,7 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
   };
   const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
                                                 std::vector<double> &z) {
-    precondition(v, z);
+    pk1_inverse(v, z);
   };
   whole_free_force(residual);
   double phi = 0.0, phi_previous = 0.0, eta = ETA_MAX;
@@ -604,6 +651,30 @@ double MinSPHNewton::forcing_term(double previous_eta, double fsq, double fsq_pr
   if (0.9 * previous_eta * previous_eta > 0.1)
     eta = std::max(eta, 0.9 * previous_eta * previous_eta);
   return std::min(ETA_MAX, std::max(ETA_MIN, eta));
+}
+
+/* ----------------------------------------------------------------------
+   z = H^-1 v for the pk1 Hessian H, the corotated Jacobian's
+   preconditioner: by its factorisation where that is exact, else (the
+   spring part of hourglass control) by a few GMRES iterations on the exact
+   products, which flexible GMRES outside allows
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::pk1_inverse(const std::vector<double> &v, std::vector<double> &z)
+{
+  if (pair->hessian_is_exact() || solver->matrix_free()) {
+    precondition(v, z);
+    return;
+  }
+  const LinearMap apply_hessian = [this](const std::vector<double> &u, std::vector<double> &hu) {
+    exact_hessian_product(u, hu);
+  };
+  const LinearMap apply_factorised = [this](const std::vector<double> &u, std::vector<double> &w) {
+    precondition(u, w);
+  };
+  const KrylovResult krylov =
+      flexible_gmres(apply_hessian, apply_factorised, v, z, PK1_INVERSE_TOL, MAXKRYLOV);
+  nkrylov_hessian += krylov.iterations;
 }
 
 /* ----------------------------------------------------------------------

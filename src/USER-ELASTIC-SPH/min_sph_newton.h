@@ -71,7 +71,8 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<double> residual;     // the whole free force at the iterate, on every rank
   std::vector<double> perturbed;    // the same at iterate + eps v
   double fd_length;                 // largest coordinate change of a difference product
-  bigint nkrylov, nproducts;        // GMRES iterations and their products, this run
+  bigint nkrylov, nproducts;        // GMRES iterations on J v and its force calls, this run
+  bigint nkrylov_hessian, nproducts_hessian;    // GMRES on exact Hessian products
 
   int keyword_choice(int narg, char **arg,
                      std::initializer_list<std::pair<const char *, int>> choices);
@@ -80,6 +81,7 @@ class MinSPHNewton : public MinLineSearch {
   int newton_loop(int);
   void newton_step(double tol);
   void exact_hessian_product(const std::vector<double> &v, std::vector<double> &hv);
+  bool saddle_point();
   int line_search(double fdoth);
   int abandon_step(bool all_inverted, const std::string &reason);
   bool trial_inverts() const;
@@ -89,6 +91,7 @@ class MinSPHNewton : public MinLineSearch {
   void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
   static double forcing_term(double previous_eta, double fsq, double fsq_previous);
   void precondition(const std::vector<double> &v, std::vector<double> &z);
+  void pk1_inverse(const std::vector<double> &v, std::vector<double> &z);
   void whole_free_force(std::vector<double> &force);
   bool force_below_ftol();
   int stop_or_output(bigint ntimestep, bool test_energy);

@@ -17,6 +17,9 @@
 
 #include "sph_krylov.h"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <cmath>
 
 using namespace LAMMPS_NS;
@@ -97,4 +100,59 @@ KrylovResult SPHElastic::flexible_gmres(const LinearMap &apply_a, const LinearMa
   for (int j = 0; j < k; j++)
     for (size_t e = 0; e < n; e++) x[e] += y[j] * z[j][e];
   return {k, residual / bnorm, residual <= tol * bnorm};
+}
+
+/* ----------------------------------------------------------------------
+   Lanczos for M^-1/2 A M^-1/2 written with M^-1 only: the basis u_k is
+   M-orthonormal and p_k = M u_k are the vectors A's products are compared
+   with; no reorthogonalisation (its loss only repeats converged Ritz
+   values, it creates no lower one).  The Ritz values are the eigenvalues
+   of the tridiagonal matrix of the alphas and betas.
+------------------------------------------------------------------------- */
+
+EigenvalueEstimate SPHElastic::lowest_eigenvalue(const LinearMap &apply_a,
+                                                 const LinearMap &apply_m_inverse,
+                                                 const std::vector<double> &start, double tol,
+                                                 int maxiter)
+{
+  const size_t n = start.size();
+  std::vector<double> r(start), z(n), u(n), p(n), p_previous(n, 0.0), w(n);
+  apply_m_inverse(r, z);
+  double beta = std::sqrt(std::max(dot(r, z), 0.0));
+  std::vector<double> alphas, betas;
+  EigenvalueEstimate estimate{0, 0.0, 0.0};
+  double previous_lowest = 0.0;
+  int nstill = 0;
+  while (estimate.iterations < maxiter && beta > 0.0) {
+    for (size_t e = 0; e < n; e++) {
+      u[e] = z[e] / beta;
+      p[e] = r[e] / beta;
+    }
+    apply_a(u, w);
+    estimate.iterations++;
+    const double alpha = dot(u, w);
+    for (size_t e = 0; e < n; e++) r[e] = w[e] - alpha * p[e] - beta * p_previous[e];
+    if (!alphas.empty()) betas.push_back(beta);
+    alphas.push_back(alpha);
+    p_previous.swap(p);
+    apply_m_inverse(r, z);
+    beta = std::sqrt(std::max(dot(r, z), 0.0));
+
+    const Eigen::VectorXd diagonal =
+        Eigen::Map<const Eigen::VectorXd>(alphas.data(), (Eigen::Index) alphas.size());
+    const Eigen::VectorXd subdiagonal =
+        Eigen::Map<const Eigen::VectorXd>(betas.data(), (Eigen::Index) betas.size());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
+    ritz.computeFromTridiagonal(diagonal, subdiagonal, Eigen::EigenvaluesOnly);
+    estimate.lowest = ritz.eigenvalues()(0);
+    estimate.largest = ritz.eigenvalues()(diagonal.size() - 1);
+    if (estimate.lowest < -tol * std::fabs(estimate.largest)) break;
+    // settled: two iterations in a row that moved it by less than tol
+    const bool still =
+        std::fabs(estimate.lowest - previous_lowest) <= tol * std::fabs(estimate.lowest);
+    nstill = (estimate.iterations > 1 && still) ? nstill + 1 : 0;
+    if (nstill == 2) break;
+    previous_lowest = estimate.lowest;
+  }
+  return estimate;
 }

@@ -42,6 +42,24 @@ namespace SPHElastic {
   KrylovResult flexible_gmres(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
                               const std::vector<double> &b, std::vector<double> &x, double tol,
                               int maxiter);
+
+  struct EigenvalueEstimate {
+    int iterations;    // products with A
+    double lowest;     // the smallest Ritz value
+    double largest;    // the largest Ritz value, the scale of "lowest < 0"
+  };
+
+  /* ----------------------------------------------------------------------
+     the smallest eigenvalue of the pencil A x = lambda M x (A symmetric,
+     M symmetric positive definite, given by M^-1) by Lanczos in the M
+     inner product from the vector start.  Ritz values bound the smallest
+     eigenvalue from above, so a negative one proves A indefinite: it stops
+     there, or when the smallest Ritz value changes by less than tol of
+     itself, or after maxiter products.
+  ------------------------------------------------------------------------- */
+
+  EigenvalueEstimate lowest_eigenvalue(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
+                                       const std::vector<double> &start, double tol, int maxiter);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 
