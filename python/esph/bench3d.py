@@ -51,7 +51,8 @@ def bench3d(dxs, nprocs_list, solvers, side: float, timeout: float) -> None:
     of the given side (H = W = side, L = 10 H), resolved by each dx (the
     default 0.02 m: 10 k atoms at dx = 2 mm, 81 k at 1 mm)."""
     print(f"3D cantilever statics (square section, L = 10 H, end traction, pk1, quadratic "
-          f"gradient, mirror clamp, force tolerance 1e-7 of the load); machine {machine()}")
+          f"gradient, mirror clamp, hourglass control 0.2: the defaults; force tolerance 1e-7 of "
+          f"the load); machine {machine()}")
     print_head(f"{'dx[mm]':>6} {'atoms':>7} {'ranks':>5} {'solver':>7} {'iters':>5} "
                f"{'wall[s]':>8} {'MB/rank':>8} {'dyn100[s]':>9} {'ratio':>6}  solver log / command")
     for dx in dxs:

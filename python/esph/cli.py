@@ -118,7 +118,9 @@ def main(argv=None) -> int:
     val.add_argument("--solver", default="newton", choices=["newton", "cg"],
                      help="minimiser of the min route: newton = min_style sph/newton (Newton-Krylov "
                           "for corotated), cg = conjugate gradients (default: %(default)s)")
-    val.add_argument("--hourglass", type=float, default=0.0)
+    val.add_argument("--hourglass", type=float, default=None,
+                     help="hourglass-control coefficient of every variant (default: each "
+                          "variant's own, 0.2 for default, 0 for the others)")
     val.add_argument("--variants", default="linear/fixed,default",
                      help="comma-separated schemes: linear/fixed (the paper's), default (quadratic "
                           "gradient, mirror clamp, exact volumes, face traction), or a "

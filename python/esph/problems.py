@@ -40,9 +40,11 @@ PROBLEMS = {
 
 # the schemes a beam or truss script can run, by name: a label and the
 # example variables that select them
-PAPER = {"grad": "linear", "clamp": "fixed", "volumes": "cells", "load": "column"}
-QUADRATIC_MIRROR = {"grad": "quadratic", "clamp": "mirror", "volumes": "cells", "load": "column"}
-DEFAULT = {"grad": "quadratic", "clamp": "mirror", "volumes": "exact", "load": "traction"}
+PAPER = {"grad": "linear", "clamp": "fixed", "volumes": "cells", "load": "column", "hg": 0.0}
+QUADRATIC_MIRROR = {"grad": "quadratic", "clamp": "mirror", "volumes": "cells", "load": "column",
+                    "hg": 0.0}
+DEFAULT = {"grad": "quadratic", "clamp": "mirror", "volumes": "exact", "load": "traction",
+           "hg": 0.2}
 VARIANTS = {
     "linear/fixed": ("the paper's scheme: linear gradient correction, fixed clamp, cell volumes, "
                      "load on the last column", PAPER),
@@ -53,7 +55,8 @@ VARIANTS = {
     "linear/mirror": ("linear gradient correction, mirror clamp, cell volumes, column load",
                       {**PAPER, "clamp": "mirror"}),
     "default": ("the defaults: quadratic gradient, mirror clamp, exact volumes "
-                "(set_sph_volumes), traction on the end face (fix sph/traction)", DEFAULT),
+                "(set_sph_volumes), traction on the end face (fix sph/traction), hourglass "
+                "control 0.2", DEFAULT),
 }
 VARIANT_LABELS = {name: label for name, (label, _) in VARIANTS.items()}
 

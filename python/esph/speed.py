@@ -53,7 +53,7 @@ METHODS = {
     "newton-quadratic": Method("ICB min Newton, quadratic/mirror, pk1",
                                {"route": "min", "solver": "newton", "stress": "pk1",
                                 **QUADRATIC_MIRROR}, "pk1"),
-    "newton-default": Method("ICB min Newton, defaults (exact volumes, face traction)",
+    "newton-default": Method("ICB min Newton, defaults (exact volumes, face traction, hg 0.2)",
                              {"route": "min", "solver": "newton", "stress": "pk1", **DEFAULT},
                              "pk1"),
 }

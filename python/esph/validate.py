@@ -54,8 +54,9 @@ class Runner:
     """Runs each (problem, load, dx, variant) once; tables share results."""
 
     def __init__(self, nprocs: int = 1, stress: str = "pk1", route: str = "min",
-                 hourglass: float = 0.0, progress=print, solver: str = "newton"):
+                 hourglass: float | None = None, progress=print, solver: str = "newton"):
         self.nprocs, self.stress, self.progress = nprocs, stress, progress
+        # None: each variant's own (0.2 for the defaults, 0 for the others)
         self.route, self.hourglass = route, hourglass
         # min_style sph/newton: pk1 by its energy, corotated by Newton-Krylov
         self.solver = solver
@@ -71,8 +72,9 @@ class Runner:
             script = {"beam": BEAM, "truss": TRUSS, "beam3d": BEAM3D}[problem]
             load_var = "Fx" if problem == "truss" else "Fy"
             variables = {load_var: load, "dx": dx, "stress": self.stress, **VARIANTS[variant][1],
-                         "route": self.route, "hg": self.hourglass, "solver": self.solver,
-                         **extra}
+                         "route": self.route, "solver": self.solver, **extra}
+            if self.hourglass is not None:
+                variables["hg"] = self.hourglass
             self.cache[key] = run_tip(script, variables, self.nprocs)
         return self.cache[key]
 
@@ -326,7 +328,8 @@ def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: flo
 
 def validate(out: Path, variants: list[str], full: bool, tables: str, dx: float, loads,
              nprocs: int = 1, stress: str = "pk1", route: str = "min", solver: str = "newton",
-             hourglass: float = 0.0, json_path: Path | None = None, progress=print) -> list[Row]:
+             hourglass: float | None = None, json_path: Path | None = None,
+             progress=print) -> list[Row]:
     """The whole command: the tables, the failure matrix with --full, the
     rows as JSON and CSV in `out` (and at json_path) and the convergence plot."""
     unknown = [v for v in variants if v not in VARIANT_LABELS]
