@@ -44,8 +44,9 @@ def hg_matrix(kind, N, I, J, d, r, hi, g, c, P, V, alpha, real):
             i, j = I[p], J[p]
             if MIRROR_HG is False and not (real[i] and real[j]):
                 continue
-            q = key[(j, i)]
-            kij = alpha * E0 * (V[i] * gn[p] + V[j] * gn[q]) / (2 * r[p])
+            q = key.get((j, i))
+            gq = gn[q] if q is not None else 0.0
+            kij = alpha * E0 * (V[i] * gn[p] + V[j] * gq) / (2 * r[p])
             coef = {}
             def add(m, v):
                 coef[m] = coef.get(m, 0.0) + v
