@@ -72,7 +72,8 @@ enum { COMM_DEFGRAD, COMM_QSTRESS, COMM_PRODUCT_V, COMM_PRODUCT_Q };
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
     npairs(0), maxpairs(0), directed_pairs(false), pair_atoms(nullptr), pair_g(nullptr),
-    vproduct(nullptr), dqstress(nullptr), dfproduct(nullptr), ncompute(0), tangents_stamp(-1)
+    maxpairs_hg(0), pair_hg(nullptr), vproduct(nullptr), dqstress(nullptr), dfproduct(nullptr),
+    ncompute(0), tangents_stamp(-1)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
@@ -98,6 +99,7 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(jlocal);
   memory->destroy(pair_atoms);
   memory->destroy(pair_g);
+  memory->destroy(pair_hg);
   memory->destroy(vproduct);
   memory->destroy(dqstress);
   memory->destroy(dfproduct);
@@ -181,7 +183,6 @@ void PairSPHICB::compute(int eflag, int vflag)
     error->all(FLERR, Error::NOLASTLINE, "Pair style sph/icb: reference partners were not built");
 
   const int nlocal = atom->nlocal;
-  const int mp = partners->maxpartner;
   grow_output();
   grow_work();
   refresh_partner_indices();
@@ -206,11 +207,10 @@ void PairSPHICB::compute(int eflag, int vflag)
   if (hourglass > 0.0) {
     comm_what = COMM_DEFGRAD;
     comm->forward_comm(this);
-    for (int i = 0; i < nlocal; i++) {
-      const double e = hourglass_pass(i, &jlocal[i * mp]);
-      if (eflag_global) eng_vdwl += e;
-      if (eflag_atom) eatom[i] += e;
-    }
+    if (two_d)
+      hourglass_pairs<2>();
+    else
+      hourglass_pairs<3>();
   }
 
   comm_what = COMM_QSTRESS;
@@ -342,7 +342,8 @@ void PairSPHICB::grow_work()
 void PairSPHICB::refresh_partner_indices()
 {
   const int nlocal = atom->nlocal;
-  if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal) return;
+  const bool hourglass_listed = hourglass == 0.0 || pair_hg;
+  if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal && hourglass_listed) return;
   const int mp = partners->maxpartner;
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < partners->npartner[i]; k++) {
@@ -382,6 +383,11 @@ void PairSPHICB::build_pairs()
     memory->destroy(pair_g);
     memory->create(pair_atoms, 2 * maxpairs, "pair:pair_atoms");
     memory->create(pair_g, 6 * (bigint) maxpairs, "pair:pair_g");
+  }
+  if (hourglass > 0.0 && bound > maxpairs_hg) {
+    maxpairs_hg = static_cast<int>(bound);
+    memory->destroy(pair_hg);
+    memory->create(pair_hg, 4 * (bigint) maxpairs_hg, "pair:pair_hg");
   }
   const tagint *tag = atom->tag;
   std::vector<int> by_id(nlocal);
@@ -427,6 +433,12 @@ bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
       for (int a = 0; a < dim; a++) {
         g[a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ + a];
         g[dim + a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GJI + a];
+      }
+      if (hourglass > 0.0) {
+        double *hg = &pair_hg[(bigint) npairs * (1 + dim)];
+        hg[0] = bond_stiffness(i, j, pd, k);
+        for (int a = 0; a < dim; a++)
+          hg[1 + a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0 + a];
       }
       npairs++;
     }
@@ -652,7 +664,7 @@ double PairSPHICB::stress_pass(int i)
    with K's scale (the hourglass springs are alpha times it)
 ------------------------------------------------------------------------- */
 
-double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
+inline double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
 {
   const int *type = atom->type;
   return 0.5 * (youngs[type[i]] + youngs[type[j]]) *
@@ -662,16 +674,20 @@ double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
 /* ----------------------------------------------------------------------
    d = u_j - u_i - (G_i + G_j)/2 X of a field u with gradients G (3x3
    row-major): the hourglass mismatch of the positions (u = x, G = F) or,
-   linearised, of a displacement (u = v, G = dF)
+   linearised, of a displacement (u = v, G = dF).  In 2d X_z = 0 and z is
+   the same for all atoms, so d_z = 0 and only DIM components are formed.
+   Inline (as bond_stiffness()): in the shared library an exported member
+   is called, not inlined, which cost the hourglass passes half their time.
 ------------------------------------------------------------------------- */
 
-void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const double *const *u,
-                                    const double *const *grad, double *d) const
+template <int DIM>
+inline void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const double *const *u,
+                                           const double *const *grad, double *d) const
 {
   const double *Gi = grad[i], *Gj = grad[j];
-  for (int a = 0; a < 3; a++) {
+  for (int a = 0; a < DIM; a++) {
     double gx = 0.0;
-    for (int b = 0; b < 3; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
+    for (int b = 0; b < DIM; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
     d[a] = u[j][a] - u[i][a] - 0.5 * gx;
   }
 }
@@ -682,32 +698,51 @@ void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const double 
    zero for any affine motion.  Its F dependence acts like a stress,
    dE_hg/dF_i = -1/2 sum_j k_ij d_ij (x) X_ij, added to Q_i; the direct x
    dependence gives f_i += sum_j k_ij d_ij.  k_ij = alpha E_ij w_ij with the
-   precomputed w_ij = (V_i |g_ij| + V_j |g_ji|) / (2 r0).  Returns atom i's
-   share of the energy.
+   precomputed w_ij = (V_i |g_ij| + V_j |g_ji|) / (2 r0), symmetric, and
+   d_ji = -d_ij, X_ji = -X_ij: each pair of the list gives j the same Q
+   term as i and the opposite force.
 ------------------------------------------------------------------------- */
 
-double PairSPHICB::hourglass_pass(int i, const int *jl)
+template <int DIM> void PairSPHICB::hourglass_pairs()
 {
   const double *const *const x = atom->x;
-  const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
-  double *Q = qstress[i];
-  double energy = 0.0;
+  const int nlocal = atom->nlocal;
+  // copies the compiler need not reload after every store through a double*
+  const double alpha = hourglass;
+  const bool directed = directed_pairs, tally_global = eflag_global, tally_atom = eflag_atom;
+  double energy_sum = 0.0;
+  for (int p = 0; p < npairs; p++) {
+    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+    const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+    const double kij = alpha * hg[0];
+    const double *X = hg + 1;
+    double d[3] = {0.0, 0.0, 0.0};
+    hourglass_mismatch<DIM>(i, j, X, x, defgrad, d);
+    const bool both = !directed && j < nlocal;
 
-  for (int k = 0; k < n; k++) {
-    const int j = jl[k];
-    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-    const double kij = hourglass * bond_stiffness(i, j, pd, k);
-    double d[3];
-    hourglass_mismatch(i, j, X, x, defgrad, d);
-    energy += 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) Q[3 * a + b] -= 0.5 * kij * d[a] * X[b];
-    const double fd[3] = {kij * d[0], kij * d[1], kij * d[2]};
+    const double energy = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (tally_global) energy_sum += both ? 2.0 * energy : energy;
+    if (tally_atom) {
+      eatom[i] += energy;
+      if (both) eatom[j] += energy;
+    }
+    double *Qi = qstress[i], *Qj = qstress[j];
+    for (int a = 0; a < DIM; a++)
+      for (int b = 0; b < DIM; b++) {
+        const double dq = 0.5 * kij * d[a] * X[b];
+        Qi[3 * a + b] -= dq;
+        if (both) Qj[3 * a + b] -= dq;
+      }
+    const double fij[3] = {kij * d[0], kij * d[1], kij * d[2]};
     const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-    add_pair_force(i, fd, del);
+    add_pair_force(i, fij, del);
+    if (both) {
+      const double fji[3] = {-fij[0], -fij[1], -fij[2]};
+      const double dji[3] = {-del[0], -del[1], -del[2]};
+      add_pair_force(j, fji, dji);
+    }
   }
-  return energy;
+  eng_vdwl += energy_sum;
 }
 
 /* ----------------------------------------------------------------------
@@ -845,7 +880,7 @@ void PairSPHICB::refresh_tangents()
    K v as the force is computed, linearised: dF_i = sum_j (v_j - v_i) (x) g_ij,
    dQ_i = V_i A_i : dF_i, (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji).  The
    hourglass energy is quadratic in x, so its part is exact too: the
-   hourglass force of hourglass_pass() with x replaced by v and F by dF.
+   hourglass force of hourglass_pairs() with x replaced by v and F by dF.
    About the cost of one force computation, and no matrix of two-hop
    blocks (hundreds per atom in 3d) to store.
 ------------------------------------------------------------------------- */
@@ -859,7 +894,6 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
   }
   refresh_tangents();
   const int nlocal = atom->nlocal;
-  const int mp = partners->maxpartner;
   const bool two_d = domain->dimension == 2;
   for (int i = 0; i < nlocal; i++)
     for (int a = 0; a < 3; a++) vproduct[i][a] = v[3 * i + a];
@@ -883,15 +917,16 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
       for (int a = 0; a < 9; a++) dfproduct[i][a] = dqstress[i][a];
   }
   for (int i = 0; i < nlocal; i++) product_stress_pass(i);
-  std::vector<double> springs;
+  for (int i = 0; i < 3 * nlocal; i++) kv[i] = 0.0;
   if (hourglass > 0.0) {
-    springs.assign(3 * (size_t) nlocal, 0.0);
-    for (int i = 0; i < nlocal; i++) hourglass_product_pass(i, &jlocal[i * mp], &springs[3 * i]);
+    if (two_d)
+      hourglass_product_pairs<2>(kv);
+    else
+      hourglass_product_pairs<3>(kv);
   }
   comm_what = COMM_PRODUCT_Q;
   comm->forward_comm(this);
 
-  for (int i = 0; i < 3 * nlocal; i++) kv[i] = springs.empty() ? 0.0 : springs[i];
   if (two_d)
     pair_divergence<2, false>(dqstress, kv);
   else
@@ -899,24 +934,33 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
 }
 
 /* ----------------------------------------------------------------------
-   hourglass_pass() linearised: with d_ij = v_j - v_i - (dF_i + dF_j)/2 X_ij,
-   dQ_i -= 1/2 k_ij d_ij (x) X_ij and (K v)_i -= k_ij d_ij (into kv_i)
+   hourglass_pairs() linearised: with d_ij = v_j - v_i - (dF_i + dF_j)/2 X_ij,
+   dQ_i -= 1/2 k_ij d_ij (x) X_ij and (K v)_i -= k_ij d_ij (into kv), and
+   the same dQ and the opposite (K v) for j
 ------------------------------------------------------------------------- */
 
-void PairSPHICB::hourglass_product_pass(int i, const int *jl, double *kv_i)
+template <int DIM> void PairSPHICB::hourglass_product_pairs(double *kv)
 {
-  const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
-  double *dQ = dqstress[i];
-  for (int k = 0; k < n; k++) {
-    const int j = jl[k];
-    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-    const double kij = hourglass * bond_stiffness(i, j, pd, k);
-    double d[3];
-    hourglass_mismatch(i, j, X, vproduct, dfproduct, d);
-    for (int a = 0; a < 3; a++) {
-      for (int b = 0; b < 3; b++) dQ[3 * a + b] -= 0.5 * kij * d[a] * X[b];
-      kv_i[a] -= kij * d[a];
+  const int nlocal = atom->nlocal;
+  const double alpha = hourglass;
+  const bool directed = directed_pairs;
+  for (int p = 0; p < npairs; p++) {
+    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+    const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+    const double kij = alpha * hg[0];
+    const double *X = hg + 1;
+    double d[3] = {0.0, 0.0, 0.0};
+    hourglass_mismatch<DIM>(i, j, X, vproduct, dfproduct, d);
+    const bool both = !directed && j < nlocal;
+    double *dQi = dqstress[i], *dQj = dqstress[j];
+    for (int a = 0; a < DIM; a++) {
+      for (int b = 0; b < DIM; b++) {
+        const double dq = 0.5 * kij * d[a] * X[b];
+        dQi[3 * a + b] -= dq;
+        if (both) dQj[3 * a + b] -= dq;
+      }
+      kv[3 * i + a] -= kij * d[a];
+      if (both) kv[3 * j + a] += kij * d[a];
     }
   }
 }

@@ -95,6 +95,9 @@ class PairSPHICB : public PairSPHElastic {
   bool directed_pairs;    // each atom lists all its partners, for itself only
   int *pair_atoms;        // i and j of each pair
   double *pair_g;         // g_ij then g_ji of each pair, d doubles each
+  // with hourglass control: E_ij w_ij then X_ij of each pair, 1 + d doubles
+  int maxpairs_hg;
+  double *pair_hg;
   int nmax_work, maxlocal;
   bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
@@ -130,9 +133,10 @@ class PairSPHICB : public PairSPHElastic {
   template <int DIM, bool FORCE> void pair_divergence(const double *const *q, double *out);
   double stress_pass(int i);
   double bond_stiffness(int i, int j, const double *pd, int k) const;
+  template <int DIM>
   void hourglass_mismatch(int i, int j, const double *X, const double *const *u,
                           const double *const *grad, double *d) const;
-  double hourglass_pass(int i, const int *jl);
+  template <int DIM> void hourglass_pairs();
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
   void stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
@@ -142,7 +146,7 @@ class PairSPHICB : public PairSPHElastic {
   void refresh_tangents();
   double **forward_array() const;
   void product_stress_pass(int i);
-  void hourglass_product_pass(int i, const int *jl, double *kv_i);
+  template <int DIM> void hourglass_product_pairs(double *kv);
 };
 
 }    // namespace LAMMPS_NS
