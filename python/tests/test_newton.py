@@ -283,6 +283,21 @@ def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, sad
     assert out.variables["tip_dh"] == pytest.approx(exact, rel=0.01)
 
 
+@pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])
+def test_hourglass_saddle_test_agrees_on_ranks(load, saddle):
+    """The Lanczos saddle test runs on every rank with the same start: on 2
+    and 3 ranks it reaches the serial verdict, and the bar stays straight."""
+    variables = {"Fx": load, "dx": 0.005, "grad": "quadratic", "clamp": "mirror",
+                 "solver": "newton", "hg": 0.2}
+    for nprocs in (2, 3):
+        out = run_mpi(TRUSS, variables, nprocs)
+        assert ("equilibrium is unstable (a saddle point" in out.log) == saddle, nprocs
+        assert "Lanczos iterations" in out.log
+        assert abs(out.variables["tip_dv"]) < 1e-12
+        assert out.variables["tip_dh"] == pytest.approx(problems.truss_exact(load, 0.005, "pk1"),
+                                                        rel=0.01)
+
+
 @pytest.mark.slow
 def test_hourglass_control_newton_converges_as_without_it(tmp_path):
     """With hourglass control the assembled Hessian has only the spring

@@ -347,7 +347,8 @@ bool MinSPHNewton::saddle_point()
   if (comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: hourglass control: smallest eigenvalue of the exact "
-                   "Hessian relative to the spring part {:.6g} ({} Lanczos iterations)\n",
+                   "Hessian in the metric of the assembled one {:.6g} ({} Lanczos iterations; "
+                   "its sign tells stability)\n",
                    estimate.lowest, estimate.iterations);
   return estimate.lowest < -LANCZOS_TOL * std::fabs(estimate.largest);
 }

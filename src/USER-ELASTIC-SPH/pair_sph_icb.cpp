@@ -750,7 +750,8 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
    min_style sph/newton: every owned atom sends the blocks of its own energy
    terms, so the sum over ranks is the whole Hessian.  Exact for stress pk1
    without hourglass control; with it, only the spring part of the hourglass
-   energy is included (an SPD approximation: Newton then converges linearly).
+   energy is included (an SPD approximation that preconditions GMRES on the
+   exact products of hessian_product() in min_style sph/newton).
 ------------------------------------------------------------------------- */
 
 void PairSPHICB::hessian(const HessianSink &add) const
