@@ -706,43 +706,60 @@ inline void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const 
 template <int DIM> void PairSPHICB::hourglass_pairs()
 {
   const double *const *const x = atom->x;
+  const bool tally_global = eflag_global, tally_atom = eflag_atom;
+  double energy_sum = 0.0;
+  hourglass_sweep<DIM>(
+      x, defgrad, qstress, [&](int i, int j, double kij, const double *d, bool both) {
+        const double energy = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (tally_global) energy_sum += both ? 2.0 * energy : energy;
+        if (tally_atom) {
+          eatom[i] += energy;
+          if (both) eatom[j] += energy;
+        }
+        const double fij[3] = {kij * d[0], kij * d[1], kij * d[2]};
+        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+        add_pair_force(i, fij, del);
+        if (both) {
+          const double fji[3] = {-fij[0], -fij[1], -fij[2]};
+          const double dji[3] = {-del[0], -del[1], -del[2]};
+          add_pair_force(j, fji, dji);
+        }
+      });
+  eng_vdwl += energy_sum;
+}
+
+/* ----------------------------------------------------------------------
+   the loop the hourglass force and its product share: for each listed
+   pair the mismatch d of the field u with gradients grad, its term
+   -1/2 k_ij d (x) X_ij added to q of i (and of j where the pair is listed
+   once for both), then visit(i, j, k_ij, d, both) for the rest
+------------------------------------------------------------------------- */
+
+template <int DIM, typename Visit>
+void PairSPHICB::hourglass_sweep(const double *const *u, const double *const *grad,
+                                 double *const *q, Visit visit)
+{
   const int nlocal = atom->nlocal;
   // copies the compiler need not reload after every store through a double*
   const double alpha = hourglass;
-  const bool directed = directed_pairs, tally_global = eflag_global, tally_atom = eflag_atom;
-  double energy_sum = 0.0;
+  const bool directed = directed_pairs;
   for (int p = 0; p < npairs; p++) {
     const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
     const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
     const double kij = alpha * hg[0];
     const double *X = hg + 1;
     double d[3] = {0.0, 0.0, 0.0};
-    hourglass_mismatch<DIM>(i, j, X, x, defgrad, d);
+    hourglass_mismatch<DIM>(i, j, X, u, grad, d);
     const bool both = !directed && j < nlocal;
-
-    const double energy = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    if (tally_global) energy_sum += both ? 2.0 * energy : energy;
-    if (tally_atom) {
-      eatom[i] += energy;
-      if (both) eatom[j] += energy;
-    }
-    double *Qi = qstress[i], *Qj = qstress[j];
+    double *qi = q[i], *qj = q[j];
     for (int a = 0; a < DIM; a++)
       for (int b = 0; b < DIM; b++) {
         const double dq = 0.5 * kij * d[a] * X[b];
-        Qi[3 * a + b] -= dq;
-        if (both) Qj[3 * a + b] -= dq;
+        qi[3 * a + b] -= dq;
+        if (both) qj[3 * a + b] -= dq;
       }
-    const double fij[3] = {kij * d[0], kij * d[1], kij * d[2]};
-    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-    add_pair_force(i, fij, del);
-    if (both) {
-      const double fji[3] = {-fij[0], -fij[1], -fij[2]};
-      const double dji[3] = {-del[0], -del[1], -del[2]};
-      add_pair_force(j, fji, dji);
-    }
+    visit(i, j, kij, d, both);
   }
-  eng_vdwl += energy_sum;
 }
 
 /* ----------------------------------------------------------------------
@@ -942,28 +959,13 @@ void PairSPHICB::hessian_product(const double *v, double *kv)
 
 template <int DIM> void PairSPHICB::hourglass_product_pairs(double *kv)
 {
-  const int nlocal = atom->nlocal;
-  const double alpha = hourglass;
-  const bool directed = directed_pairs;
-  for (int p = 0; p < npairs; p++) {
-    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-    const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
-    const double kij = alpha * hg[0];
-    const double *X = hg + 1;
-    double d[3] = {0.0, 0.0, 0.0};
-    hourglass_mismatch<DIM>(i, j, X, vproduct, dfproduct, d);
-    const bool both = !directed && j < nlocal;
-    double *dQi = dqstress[i], *dQj = dqstress[j];
-    for (int a = 0; a < DIM; a++) {
-      for (int b = 0; b < DIM; b++) {
-        const double dq = 0.5 * kij * d[a] * X[b];
-        dQi[3 * a + b] -= dq;
-        if (both) dQj[3 * a + b] -= dq;
-      }
-      kv[3 * i + a] -= kij * d[a];
-      if (both) kv[3 * j + a] += kij * d[a];
-    }
-  }
+  hourglass_sweep<DIM>(vproduct, dfproduct, dqstress,
+                       [&](int i, int j, double kij, const double *d, bool both) {
+                         for (int a = 0; a < DIM; a++) {
+                           kv[3 * i + a] -= kij * d[a];
+                           if (both) kv[3 * j + a] += kij * d[a];
+                         }
+                       });
 }
 
 /* ----------------------------------------------------------------------

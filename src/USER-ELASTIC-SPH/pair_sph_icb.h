@@ -137,6 +137,9 @@ class PairSPHICB : public PairSPHElastic {
   void hourglass_mismatch(int i, int j, const double *X, const double *const *u,
                           const double *const *grad, double *d) const;
   template <int DIM> void hourglass_pairs();
+  template <int DIM, typename Visit>
+  void hourglass_sweep(const double *const *u, const double *const *grad, double *const *q,
+                       Visit visit);
   void grow_work();
   void strain_hessian(int i, const int *jl, const HessianSink &) const;
   void stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
