@@ -42,26 +42,8 @@ def graded_body(dx, r, ell):
 
 
 def solve_graded(dx, nu, r, ell, alpha, F=-10.0):
-    Xb, Vb, Sb, xc, yc = graded_body(dx, r, ell); nb = len(Xb)
-    X, V, S, src = with_mirror(Xb, Vb, Sb, 3 * dx); N = len(X)
-    h = 1.2 * S
-    I, J, d, rr, hi, g, c, P = fit_ops(X, V, h)
-    B = bmatrix(N, I, J, g)
-    wts = np.r_[Vb, np.zeros(N - nb)]
-    K = (B.T @ sp.kron(sp.diags(wts), sp.csr_matrix(Cmat(nu))) @ B).tocsr()
-    if alpha > 0:
-        real = np.r_[np.ones(nb, bool), np.zeros(N - nb, bool)]
-        K = K + sp.kron(hg_matrix("ganz", N, I, J, d, rr, hi, g, c, P, V, alpha, real), sp.eye(2))
-    rows = np.r_[np.arange(2 * nb), 2 * (nb + np.arange(len(src))), 2 * (nb + np.arange(len(src))) + 1]
-    cols = np.r_[np.arange(2 * nb), 2 * src, 2 * src + 1]
-    T = sp.csr_matrix((np.r_[np.ones(2 * nb), -np.ones(2 * len(src))], (rows, cols)), shape=(2 * N, 2 * nb))
-    Kb = (T.T @ K @ T).tocsc()
-    b = np.zeros((N, 2)); np.add.at(b, I, wts[I][:, None] * g); np.add.at(b, J, -wts[I][:, None] * g)
-    face = Xb[:, 0] > L0 / 2
-    f = np.zeros(2 * nb); f[2 * np.where(face)[0] + 1] = F / (H0 * T0) * (-b[:nb][face, 0])
-    u = spla.spsolve(Kb, f)
-    tip = np.isclose(Xb[:, 0], xc[-1])
-    return u[2 * np.where(tip)[0] + 1].mean(), nb, xc[-1], yc
+    Xb, Vb, Sb, xc, yc = graded_body(dx, r, ell)
+    return solve_body(Xb, Vb, Sb, dx, nu, "ganz", alpha, F, xc[-1]), len(Xb), xc[-1], yc
 
 
 if __name__ == "__main__":

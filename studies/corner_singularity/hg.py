@@ -78,8 +78,12 @@ def hg_matrix(kind, N, I, J, d, r, hi, g, c, P, V, alpha, real):
     rows, cols, vals = map(np.concatenate, (rows, cols, vals))
     return sp.csr_matrix((vals, (rows, cols)), shape=(N, N))
 
-def solve_hg(dx, nu, kind, alpha, F=-10.0):
-    Xb, Vb, Sb = body(dx); nb = len(Xb)
+def solve_body(Xb, Vb, Sb, dx, nu, kind, alpha, F, tip_x):
+    """The particle body (positions, volumes, spacings) with its odd mirror
+    clamp, linear elasticity, hourglass energy of `kind` and the consistent
+    end traction F on the particles beyond L/2's face: the mean tip dv of
+    the column at x = tip_x."""
+    nb = len(Xb)
     X, V, S, src = with_mirror(Xb, Vb, Sb, 3 * dx); N = len(X)
     h = 1.2 * S
     I, J, d, r, hi, g, c, P = fit_ops(X, V, h)
@@ -98,8 +102,12 @@ def solve_hg(dx, nu, kind, alpha, F=-10.0):
     face = Xb[:, 0] > L0 / 2
     f = np.zeros(2 * nb); f[2 * np.where(face)[0] + 1] = F / (H0 * T0) * (-b[:nb][face, 0])
     u = spla.spsolve(Kb, f)
-    tip = np.isclose(Xb[:, 0], L0 - dx / 2)
+    tip = np.isclose(Xb[:, 0], tip_x)
     return u[2 * np.where(tip)[0] + 1].mean()
+
+def solve_hg(dx, nu, kind, alpha, F=-10.0):
+    Xb, Vb, Sb = body(dx)
+    return solve_body(Xb, Vb, Sb, dx, nu, kind, alpha, F, L0 - dx / 2)
 
 DXS = (0.004, 0.002, 0.001, 0.0005)
 ALPHAS = (0.0, 0.1, 0.2, 0.3, 0.5)
