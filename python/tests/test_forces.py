@@ -11,9 +11,12 @@ from conftest import block, make_lammps
 
 
 def perturbed_block(dim, measure, hourglass=0.0, seed=1, amplitude=0.05, gradient="linear"):
+    """hourglass None: the keyword left out (the pair style's default)."""
     lmp = make_lammps()
     n = (6, 5, 1) if dim == 2 else (4, 4, 3)
-    extra = f"stress {measure} hourglass {hourglass} gradient {gradient}"
+    extra = f"stress {measure} gradient {gradient}"
+    if hourglass is not None:
+        extra += f" hourglass {hourglass}"
     block(lmp, n=n, dim=dim, extra_pair=extra)
     lmp.command("run 0")
     rng = np.random.default_rng(seed)
@@ -34,6 +37,20 @@ def test_total_force_vanishes(measure, dim, gradient):
     assert scale > 1.0                       # the perturbation does load the particles
     assert np.abs(f.sum(axis=0)).max() < 1e-12 * scale * natoms
     lmp.close()
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_hourglass_control_is_on_by_default(dim):
+    """Without the keyword the pair style uses hourglass 0.2 (the accurate
+    default): the same energy and forces as the keyword, not those of 0."""
+    runs = {}
+    for hourglass in (None, 0.2, 0.0):
+        lmp, natoms = perturbed_block(dim, "pk1", hourglass=hourglass, gradient="quadratic")
+        runs[hourglass] = (lmp.get_thermo("pe"), np.array(lmp.numpy.extract_atom("f")[:natoms]))
+        lmp.close()
+    assert runs[None][0] == runs[0.2][0]
+    assert np.array_equal(runs[None][1], runs[0.2][1])
+    assert runs[None][0] > runs[0.0][0] * (1 + 1e-3)    # the penalty adds energy
 
 
 @pytest.mark.parametrize("hourglass,gradient", [(0.0, "linear"), (0.5, "linear"),

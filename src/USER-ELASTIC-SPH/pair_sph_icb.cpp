@@ -115,7 +115,7 @@ void PairSPHICB::set_style_defaults()
 {
   measure = PK1;
   gradient_order = 2;
-  hourglass = 0.0;
+  hourglass = 0.2;
 }
 
 /* ----------------------------------------------------------------------
