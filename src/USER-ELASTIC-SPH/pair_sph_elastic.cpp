@@ -386,13 +386,13 @@ void PairSPHElastic::report_stable_dt()
   utils::logmesg(
       lmp,
       "Pair style {}: stable time step estimate h/c = {:.6g} (stable up to about "
-      "{} h/c = {:.6g}){}\n",
+      "{:.2g} h/c = {:.6g}){}\n",
       style_name(), dt_unit, stable_fraction(), limit,
       dynamics ? fmt::format("; timestep {:.6g} = {:.3g} h/c", update->dt, update->dt / dt_unit)
                : std::string());
   if (dynamics && update->dt > limit)
     error->warning(FLERR,
-                   "Pair style {}: timestep {:.6g} exceeds the stable limit of about {} h/c = "
+                   "Pair style {}: timestep {:.6g} exceeds the stable limit of about {:.2g} h/c = "
                    "{:.6g}: the run will blow up; use 'timestep {:.3g}' (0.25 h/c) or less",
                    style_name(), update->dt, stable_fraction(), limit, 0.25 * dt_unit);
 }
@@ -407,9 +407,10 @@ std::string PairSPHElastic::instability_advice() const
   if (dt_unit <= 0.0) return "the load or the time step is too large for this resolution";
   const double ratio = update->dt / dt_unit;
   if (ratio > stable_fraction())
-    return fmt::format("the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {} h/c "
-                       "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'",
-                       update->dt, ratio, stable_fraction(), dt_unit, 0.25 * dt_unit);
+    return fmt::format(
+        "the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {:.2g} h/c "
+        "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'",
+        update->dt, ratio, stable_fraction(), dt_unit, 0.25 * dt_unit);
   tagint amplified = 0;
   const double amplification = partners ? partners->gradient_amplification(amplified) : 0.0;
   if (amplification > FixSPHPartners::AMPLIFICATION_WARN)

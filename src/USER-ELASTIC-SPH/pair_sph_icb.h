@@ -121,7 +121,7 @@ class PairSPHICB : public PairSPHElastic {
   const char *style_name() const override { return "sph/icb"; }
   // measured on a vibrating block (h = 1.2 dx, sinc5): unstable from 0.55 h/c
   // with the quadratic gradient, from 1.0 h/c with the linear one
-  double stable_fraction() const override { return gradient_order == 2 ? 0.5 : 0.8; }
+  double stable_fraction() const override;
   void report_minimize_residual();
   void refresh_partner_indices();
   bool partner_indices_current() const;
