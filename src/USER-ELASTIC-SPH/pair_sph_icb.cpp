@@ -122,8 +122,9 @@ void PairSPHICB::set_style_defaults()
    the stable timestep in units of h/c.  Measured by bisection over 20000
    steps of vibrating cantilevers (h = 1.2 dx): without hourglass control
    0.53 (2d) and 0.48 (3d) with the quadratic gradient, 0.93 (3d) with the
-   linear one; f0 below is that with a margin.  The hourglass springs add a stiffness of their own that
-   lowers it; 1 / sqrt(1 / f0^2 + 4 alpha) stays below every measured limit
+   linear one; f0 below is that with a margin.  The hourglass springs add
+   a stiffness of their own that lowers it; 1 / sqrt(1 / f0^2 + 4 alpha)
+   stays below every measured limit
    (alpha 0.2, 1, 5: 0.52, 0.49, 0.26 (2d) and 0.47, 0.43, 0.21 (3d)
    quadratic; 0.90, 0.62, 0.28 (3d) linear)
 ------------------------------------------------------------------------- */
