@@ -294,16 +294,10 @@ void MinSPHNewton::newton_step(double tol)
     solver->solve(force_share, step);
     return;
   }
-  const LinearMap apply_hessian = [this](const std::vector<double> &v, std::vector<double> &hv) {
-    exact_hessian_product(v, hv);
-  };
-  const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
-                                                std::vector<double> &z) {
-    precondition(v, z);
-  };
   whole_free_force(residual);
-  const KrylovResult krylov =
-      flexible_gmres(apply_hessian, apply_preconditioner, residual, step, tol, MAXKRYLOV_PRODUCT);
+  const KrylovResult krylov = flexible_gmres(member_map(&MinSPHNewton::exact_hessian_product),
+                                             member_map(&MinSPHNewton::precondition), residual,
+                                             step, tol, MAXKRYLOV_PRODUCT);
   nkrylov_hessian += krylov.iterations;
   // where H is indefinite GMRES may return an uphill step; the factorised
   // matrix was made positive definite by the solver, so its step is downhill
@@ -335,15 +329,9 @@ bool MinSPHNewton::saddle_point()
   std::mt19937 generator(12345);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (double &value : start) value = uniform(generator);
-  const LinearMap apply_hessian = [this](const std::vector<double> &v, std::vector<double> &hv) {
-    exact_hessian_product(v, hv);
-  };
-  const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
-                                                std::vector<double> &z) {
-    precondition(v, z);
-  };
   const EigenvalueEstimate estimate =
-      lowest_eigenvalue(apply_hessian, apply_preconditioner, start, LANCZOS_TOL, MAXLANCZOS);
+      lowest_eigenvalue(member_map(&MinSPHNewton::exact_hessian_product),
+                        member_map(&MinSPHNewton::precondition), start, LANCZOS_TOL, MAXLANCZOS);
   if (comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: hourglass control: smallest eigenvalue of the exact "
@@ -541,13 +529,8 @@ int MinSPHNewton::corotated_loop(int maxiter)
 
 int MinSPHNewton::newton_krylov_loop(int maxiter)
 {
-  const LinearMap apply_jacobian = [this](const std::vector<double> &v, std::vector<double> &jv) {
-    jacobian_product(v, jv);
-  };
-  const LinearMap apply_preconditioner = [this](const std::vector<double> &v,
-                                                std::vector<double> &z) {
-    pk1_inverse(v, z);
-  };
+  const LinearMap jacobian = member_map(&MinSPHNewton::jacobian_product);
+  const LinearMap preconditioner = member_map(&MinSPHNewton::pk1_inverse);
   whole_free_force(residual);
   double phi = 0.0, phi_previous = 0.0, eta = ETA_MAX;
   for (double value : residual) phi += value * value;
@@ -564,7 +547,7 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
     fix_minimize->store_box();
     solver->assemble(*hessian);
     const KrylovResult krylov =
-        flexible_gmres(apply_jacobian, apply_preconditioner, residual, step, eta, MAXKRYLOV);
+        flexible_gmres(jacobian, preconditioner, residual, step, eta, MAXKRYLOV);
     nkrylov += krylov.iterations;
     dofs->expand(step, h);
 
@@ -667,15 +650,21 @@ void MinSPHNewton::pk1_inverse(const std::vector<double> &v, std::vector<double>
     precondition(v, z);
     return;
   }
-  const LinearMap apply_hessian = [this](const std::vector<double> &u, std::vector<double> &hu) {
-    exact_hessian_product(u, hu);
-  };
-  const LinearMap apply_factorised = [this](const std::vector<double> &u, std::vector<double> &w) {
-    precondition(u, w);
-  };
   const KrylovResult krylov =
-      flexible_gmres(apply_hessian, apply_factorised, v, z, PK1_INVERSE_TOL, MAXKRYLOV);
+      flexible_gmres(member_map(&MinSPHNewton::exact_hessian_product),
+                     member_map(&MinSPHNewton::precondition), v, z, PK1_INVERSE_TOL, MAXKRYLOV);
   nkrylov_hessian += krylov.iterations;
+}
+
+/* ----------------------------------------------------------------------
+   a member y = A x of this minimizer as the map the Krylov solvers take
+------------------------------------------------------------------------- */
+
+LinearMap MinSPHNewton::member_map(MemberProduct product)
+{
+  return [this, product](const std::vector<double> &x, std::vector<double> &y) {
+    (this->*product)(x, y);
+  };
 }
 
 /* ----------------------------------------------------------------------

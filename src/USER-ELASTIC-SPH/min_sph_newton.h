@@ -21,6 +21,7 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 #define LMP_MIN_SPH_NEWTON_H
 
 #include "min_linesearch.h"
+#include "sph_krylov.h"
 
 #include <initializer_list>
 #include <memory>
@@ -91,6 +92,8 @@ class MinSPHNewton : public MinLineSearch {
   void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
   static double forcing_term(double previous_eta, double fsq, double fsq_previous);
   void precondition(const std::vector<double> &v, std::vector<double> &z);
+  using MemberProduct = void (MinSPHNewton::*)(const std::vector<double> &, std::vector<double> &);
+  SPHElastic::LinearMap member_map(MemberProduct product);
   void pk1_inverse(const std::vector<double> &v, std::vector<double> &z);
   void whole_free_force(std::vector<double> &force);
   bool force_below_ftol();
