@@ -188,6 +188,25 @@ def test_distributed_solver_matches_in_3d_with_hourglass_control():
         assert run["tip_dv"] == pytest.approx(runs[0]["tip_dv"], rel=1e-9)
 
 
+def test_solver_auto_takes_petsc_in_3d_and_direct_in_2d(tmp_path):
+    """The default min_modify solver auto: PETSc's matrix-free CG for a 3d
+    body, the rank-0 factorisation for a 2d one or when min_modify factor
+    asks for it; each says so in the log, and the 3d equilibrium is the
+    factorisation's."""
+    small3d = {"L": 0.04, "H": 0.01, "W": 0.01, "dx": 0.0025, "Fy": -100.0, "ftol": 1e-10,
+               "solver": "newton"}
+    logs = {name: tmp_path / f"{name}.log" for name in ("3d", "2d")}
+    refactor = ["min_style sph/newton", "min_modify factor ldlt", "minimize 0 1e-10 20 100"]
+    auto = run_script(BEAM3D, small3d, read=["tip_dv"], log=logs["3d"], commands_after=refactor)
+    direct = run_script(BEAM3D, {**small3d, "linear": "direct"}, read=["tip_dv"])
+    assert auto.variables["tip_dv"] == pytest.approx(direct.variables["tip_dv"], rel=1e-9)
+    text = logs["3d"].read_text()
+    assert "solver auto: petsc (a 3d body)" in text
+    assert "solver auto: direct (min_modify factor asks for a factorisation)" in text
+    run_script(BEAM, {**COARSE, "solver": "newton"}, read=["tip_dv"], log=logs["2d"])
+    assert "solver auto: direct (a 2d body)" in logs["2d"].read_text()
+
+
 KRYLOV = re.compile(r"sph/newton: \d+ solves, (\d+) Krylov iterations in all")
 
 
@@ -199,7 +218,7 @@ def test_petsc_multigrid_on_the_compact_matrix_takes_few_cg_iterations():
     the Hessian's soft checkerboard modes, it took 5144 to ftol 1e-7.  The
     equilibrium is the direct solve's."""
     variables = {"dx": 0.004, "solver": "newton", "ftol": 1e-10, "thermo_every": 100}
-    direct = run_mpi(BEAM3D, variables, 1).variables
+    direct = run_mpi(BEAM3D, {**variables, "linear": "direct"}, 1).variables
     counts = []
     for nprocs in (1, 2):
         out = run_mpi(BEAM3D, {**variables, "linear": "petsc"}, nprocs)
@@ -257,8 +276,8 @@ def test_petsc_off_a_square_lattice_falls_back_to_boomeramg(tmp_path):
 
 
 def test_unknown_linear_solver_is_an_error():
-    with pytest.raises(Exception, match="Unknown min_modify solver superlu: use direct, petsc "
-                       "or mumps"):
+    with pytest.raises(Exception, match="Unknown min_modify solver superlu: use auto, direct, "
+                       "petsc or mumps"):
         run_script(BEAM, {**COARSE, "solver": "newton", "linear": "superlu"}, read=["tip_dv"])
 
 

@@ -76,15 +76,15 @@ constexpr double LANCZOS_TOL = 1.0e-3;
 constexpr int MAXLANCZOS = 100;
 const double FD_RELATIVE = std::sqrt(DBL_EPSILON);
 enum FactorChoice { AUTO, CHOLMOD, LDLT };
-enum SolverChoice { DIRECT, PETSC, MUMPS };
+enum SolverChoice { SOLVER_AUTO, DIRECT, PETSC, MUMPS };
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
-    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO), backend(DIRECT),
-    nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0), nproducts(0), nkrylov_hessian(0),
-    nproducts_hessian(0)
+    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO),
+    backend(SOLVER_AUTO), nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0),
+    nproducts(0), nkrylov_hessian(0), nproducts_hessian(0)
 {
 }
 
@@ -98,11 +98,40 @@ void MinSPHNewton::init()
 {
   MinLineSearch::init();
   check_style();
-  if (backend == DIRECT)
+  const int method = backend == SOLVER_AUTO ? automatic_backend() : backend;
+  if (method == DIRECT)
     solver = std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
   else
     solver = std::make_unique<PetscLinearSolver>(
-        lmp, backend == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
+        lmp, method == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
+}
+
+/* ----------------------------------------------------------------------
+   min_modify solver auto (the default): a 3d body's Hessian has ~1400
+   entries per row, so factorising it on rank 0 takes 4x the time and 4x
+   the memory of PETSc's matrix-free CG already at 10 k atoms, and runs out
+   of memory at 80 k; 2d Hessians are sparse enough for the direct solve
+   to win.  A factorisation asked for by min_modify factor gets it.
+------------------------------------------------------------------------- */
+
+int MinSPHNewton::automatic_backend()
+{
+  const char *reason = nullptr;
+  int method = DIRECT;
+  if (domain->dimension == 2)
+    reason = "a 2d body";
+  else if (factor != AUTO)
+    reason = "min_modify factor asks for a factorisation";
+  else if (!PetscLinearSolver::available())
+    reason = "a 3d body, but this LAMMPS was built without PETSc";
+  else {
+    method = PETSC;
+    reason = "a 3d body";
+  }
+  if (comm->me == 0)
+    utils::logmesg(lmp, "  min_style sph/newton: solver auto: {} ({})\n",
+                   method == DIRECT ? "direct" : "petsc", reason);
+  return method;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -110,8 +139,9 @@ void MinSPHNewton::init()
 int MinSPHNewton::modify_param(int narg, char **arg)
 {
   if (strcmp(arg[0], "solver") == 0) {
-    backend = keyword_choice(narg, arg, {{"direct", DIRECT}, {"petsc", PETSC}, {"mumps", MUMPS}});
-    if (backend != DIRECT && !PetscLinearSolver::available())
+    backend = keyword_choice(
+        narg, arg, {{"auto", SOLVER_AUTO}, {"direct", DIRECT}, {"petsc", PETSC}, {"mumps", MUMPS}});
+    if ((backend == PETSC || backend == MUMPS) && !PetscLinearSolver::available())
       error->all(FLERR,
                  "Min_modify solver {}: this LAMMPS was built without PETSc (install it, e.g. "
                  "Debian's libpetsc-real-dev, and rebuild; or use solver direct)",

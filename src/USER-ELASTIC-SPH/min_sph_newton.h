@@ -59,12 +59,13 @@ class MinSPHNewton : public MinLineSearch {
   int modify_param(int, char **) override;
 
  private:
+  int automatic_backend();
   class PairSPHICB *pair;
   std::unique_ptr<SPHElastic::NewtonDofs> dofs;
   std::unique_ptr<SPHElastic::FreeHessian> hessian;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
   int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT
-  int backend;                              // min_modify solver: DIRECT, PETSC or MUMPS
+  int backend;                              // min_modify solver: SOLVER_AUTO, DIRECT, PETSC, MUMPS
   std::vector<double> force_share, step;    // on the free coordinates
   int nroundoff;                            // line searches in a row that ended below round-off
   double roundoff_fnorm;                    // |f|^2 when that run began
