@@ -23,7 +23,9 @@ def two_blocks(lmp, shift=(-0.3, 0.37), fix="fix contact all sph/contact 0.001 t
                seed=3, same_body=False):
     """Block A (type 1, molecule 1) and block B (type 2, molecule 2) of 4 x 3
     particles, B shifted so that several pairs across the gap are closer than
-    dx; both jiggled so that the pair distances are all different."""
+    dx; both jiggled so that the pair distances are all different.  As one
+    body (same_body), B's shift moves reference partners apart by up to
+    0.24 dx before the partners are built, which the skin must cover."""
     lmp.commands_string(f"""
         units si
         dimension 2
@@ -47,7 +49,7 @@ def two_blocks(lmp, shift=(-0.3, 0.37), fix="fix contact all sph/contact 0.001 t
         pair_style sph/icb {1.2 * DX} stress pk1
         pair_coeff 1 1 {E1} {NU}
         pair_coeff 2 2 {E2} {NU}
-        neighbor {0.3 * DX} bin
+        neighbor {(0.6 if same_body else 0.3) * DX} bin
         {fix}
         fix_modify contact energy yes
         thermo_style custom step pe

@@ -180,6 +180,46 @@ def test_traction_next_to_a_sliding_mirror_is_an_exact_equilibrium():
     lmp.close()
 
 
+@pytest.mark.parametrize("nx", [4, 6, 20])
+def test_short_body_between_a_mirror_and_a_traction_face_is_an_exact_equilibrium(nx):
+    """A block only 4 or 6 spacings long between a sliding mirror plane at
+    x = 0 and a traction face at x = L: the face's consistent loads reach
+    about 5 spacings deep, past the body's middle.  The uniform stress
+    leaves the atoms near a mirror plane in equilibrium by itself, so the
+    face takes all of its b_i (splitting them at the middle left the short
+    3d bar's stress 0.2 % off)."""
+    ny = 6
+    lam, mu = lame(2, "stress")
+    E11 = (1.01 ** 2 - 1) / 2
+    E22 = -lam / (lam + 2 * mu) * E11
+    F = np.diag([1.01, np.sqrt(1 + 2 * E22), 1.0])
+    P = pk1(F, 2)
+    lmp = make_lammps()
+    lattice_2d(lmp, f"-3 {nx} 0 {ny}")
+    lmp.commands_string(f"""
+        region left block INF 0.0 INF INF INF INF units box
+        group left region left
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} plane stress
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+        fix sym left sph/mirror x 0.0 slip yes
+        run 0
+    """)
+    apply_affine(lmp, F, 2)
+    t = P[:, 0]
+    lmp.command(f"fix load all sph/traction x {nx * DX} traction {t[0]:.17g} {t[1]:.17g}")
+    lmp.command("run 0")
+    x0 = lmp.numpy.extract_atom("x0")
+    body = np.array(x0[:lmp.get_natoms(), 0]) > 0
+    f = net_forces(lmp)
+    assert np.abs(f[body]).max() < 1e-10 * np.abs(P).max() * DX * T
+    lmp.close()
+
+
 @pytest.mark.parametrize("volumes", [False, True])
 def test_face_load_resultant_is_traction_times_area(volumes):
     """The consistent forces of a face sum to t times the face area, with
@@ -319,16 +359,21 @@ def uniaxial_cauchy(stretch, nu):
     return stretch * stretch * S11 / (stretch * lat * lat)
 
 
-@pytest.mark.parametrize("nu, slip", [(0.0, False), (0.3, True), (0.0, True)])
-def test_prescribed_displacement_gives_the_exact_uniform_stress(nu, slip):
-    delta = 0.02 * 16 * DX
+@pytest.mark.parametrize("nu, slip, strain", [(0.0, False, 0.02), (0.3, True, 0.02),
+                                              (0.0, True, 0.02), (0.3, True, 0.10)])
+def test_prescribed_displacement_gives_the_exact_uniform_stress(nu, slip, strain):
+    """Also at 10 % from the first run, where the plane moves its mirrors by
+    2 u0 = 3.2 spacings, far beyond the neighbor skin: the reference
+    partners are found before the plane is displaced (they were not, and
+    the body did not deform at all)."""
+    delta = strain * 16 * DX
     lmp, L = stretch_between_mirrors(delta, nu, slip)
     n = lmp.get_natoms()
     sigma = np.array(lmp.numpy.extract_compute("s", 1, 2)[:n])
     x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
     inside = (x0[:, 0] > 0) & (x0[:, 0] < L)
     assert np.count_nonzero(inside) == 16 * 7
-    expect = uniaxial_cauchy(1.02, nu)
+    expect = uniaxial_cauchy(1.0 + strain, nu)
     np.testing.assert_allclose(sigma[inside, 0], expect, rtol=1e-8)
     np.testing.assert_allclose(sigma[inside, 1], 0.0, atol=1e-8 * expect)
     np.testing.assert_allclose(sigma[inside, 3], 0.0, atol=1e-8 * expect)
@@ -387,6 +432,15 @@ BAD = [
     ("fix m all sph/mirror x 0.0 displace 1", "displace takes 2 values"),
     ("fix m all sph/mirror x 0.0 slip yes displace 0 1e-3", "only the normal"),
     ("fix m all sph/mirror x 0.0 wobble 1", "Unknown fix sph/mirror keyword"),
+    # the consistent loads reach deeper than a group of the face layers
+    ("region r block 0.008 INF INF INF INF INF units box\ngroup face region r\n"
+     "fix t face sph/traction x 0.01 traction 1 0\nrun 0", "loads atoms deeper than group face"),
+    # a face or mirror plane across which the body is periodic
+    ("change_box all boundary p s p\nfix t all sph/traction x 0.01 traction 1 0\nrun 0",
+     "normal to x, a periodic dimension"),
+    ("region r block INF 0.002 INF INF INF INF units box\ngroup g region r\n"
+     "change_box all boundary s p p\nfix m g sph/mirror y 0.0\nrun 0",
+     "normal to y, a periodic dimension"),
 ]
 
 

@@ -37,6 +37,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
+#include "sph_elastic_mpi.h"
 #include "update.h"
 
 #include <algorithm>
@@ -64,18 +65,6 @@ CellKey cell_of(const double *X, double cell)
           (long long) std::floor(X[2] / cell)};
 }
 
-// all ranks' packed (ID, X0) records, in rank order
-std::vector<double> gather_all(const std::vector<double> &mine, MPI_Comm world, int nprocs)
-{
-  int nmine = (int) mine.size();
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
-  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-  std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
-  MPI_Allgatherv(mine.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, world);
-  return all;
-}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -184,6 +173,12 @@ void FixSPHMirror::init()
                "Fix sph/mirror requires pair_style sph/icb; to clamp a body integrated by "
                "another pair style, hold the clamp atoms with fix setforce");
   pair->add_mirror_group(groupbit);
+  // across a periodic boundary the body would meet its own image, not a plane
+  if (domain->periodicity[axis])
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: the plane is normal to {}, a periodic dimension; a mirror "
+               "plane bounds the body, so make that boundary non-periodic (boundary s or f)",
+               id, "xyz"[axis]);
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/mirror does not support run_style respa");
   disp.resolve(lmp, fmt::format("fix {} sph/mirror displace", id));
@@ -196,9 +191,33 @@ void FixSPHMirror::init()
 
 void FixSPHMirror::setup_pre_force(int /*vflag*/)
 {
-  pair_up();
+  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
+  if (partners && !partners->built())
+    build_partners_undisplaced(partners);
+  else
+    pair_up();
   disp.evaluate(lmp);
-  place_mirrors();
+  place_mirrors(disp.value);
+}
+
+/* ----------------------------------------------------------------------
+   the reference partners are found among the current neighbours: at the
+   first run, every mirror fix pairs up (copying its sources' volumes) and
+   puts its mirrors where no displacement of its plane would, and the
+   partners are built, before any plane moves its mirrors up to 2 u0 away
+   from their reference neighbours
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::build_partners_undisplaced(FixSPHPartners *partners)
+{
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    mirror->pair_up();
+    mirror->place_mirrors(zero);
+  }
+  partners->build_if_first();
 }
 
 void FixSPHMirror::setup(int vflag)
@@ -214,13 +233,13 @@ void FixSPHMirror::min_setup(int vflag)
 void FixSPHMirror::pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors();
+  place_mirrors(disp.value);
 }
 
 void FixSPHMirror::min_pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors();
+  place_mirrors(disp.value);
 }
 
 void FixSPHMirror::post_force(int /*vflag*/)
@@ -288,8 +307,8 @@ void FixSPHMirror::pair_up()
     dest.insert(dest.end(),
                 {(double) tag[i], x0[i][0], x0[i][1], x0[i][2], atom->vfrac[i], atom->rmass[i]});
   }
-  const auto mirrors = gather_all(mirrors_mine, world, comm->nprocs);
-  const auto cands = gather_all(cands_mine, world, comm->nprocs);
+  const auto mirrors = SPHElastic::gather_all(mirrors_mine, world);
+  const auto cands = SPHElastic::gather_all(cands_mine, world);
 
   std::map<CellKey, std::vector<int>> cells;
   for (int c = 0; c < (int) cands.size() / NPACK; c++)
@@ -409,7 +428,7 @@ int FixSPHMirror::local_source(int i)
    current periodic copy; then the new positions go to the mirrors' ghosts
 ------------------------------------------------------------------------- */
 
-void FixSPHMirror::place_mirrors()
+void FixSPHMirror::place_mirrors(const double *u0)
 {
   double **x = atom->x;
   double **x0 = atom->x0;
@@ -428,7 +447,7 @@ void FixSPHMirror::place_mirrors()
     domain->minimum_image(u);
     double shift[3];
     for (int a = 0; a < 3; a++)
-      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * disp.value[a] - u[a] : u[a]) - x[i][a];
+      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * u0[a] - u[a] : u[a]) - x[i][a];
     domain->minimum_image(shift);
     for (int a = 0; a < 3; a++) {
       x[i][a] += shift[a];

@@ -63,6 +63,9 @@ class FixSPHMirror : public Fix {
   const std::map<tagint, tagint> &mirror_sources() const { return source; }
   // d x_mirror / d x_source along each axis: -1 (odd) or +1 (slip, tangential)
   double sign(int a) const { return mirror_sign[a]; }
+  // the plane: its normal axis (0, 1, 2) and reference position
+  int plane_axis() const { return axis; }
+  double plane_position() const { return plane; }
 
  private:
   int axis;                           // normal of the mirror plane: 0, 1, 2 = x, y, z
@@ -82,7 +85,8 @@ class FixSPHMirror : public Fix {
   void pair_up();
   void copy_volume(tagint, double, double);
   int local_source(int i);
-  void place_mirrors();
+  void place_mirrors(const double *u0);
+  void build_partners_undisplaced(class FixSPHPartners *);
   void hand_over_forces();
 };
 

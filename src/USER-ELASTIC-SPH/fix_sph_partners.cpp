@@ -27,6 +27,7 @@
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
+#include "sph_elastic_mpi.h"
 #include "update.h"
 
 #include <Eigen/Dense>
@@ -48,6 +49,9 @@ static constexpr double SINGULAR_TOL = 1.0e-10;
 static constexpr int RESTART_V2 = 10;
 // particles closer than this fraction of h are duplicates
 static constexpr double COINCIDENT = 1.0e-6;
+// reference partners whose distance grew by more than this fraction of the
+// neighbor skin when they are built may have lost partners beyond the skin
+static constexpr double STRETCH_SKIN_FRACTION = 0.5;
 
 /* ---------------------------------------------------------------------- */
 
@@ -307,21 +311,22 @@ void FixSPHPartners::build()
 void FixSPHPartners::check_volumes_tile_the_body()
 {
   const double *vfrac = atom->vfrac;
-  double mymax[2] = {0.0, 0.0}, all[2];    // largest S, then the ID of its atom
+  double largest = 0.0;    // the largest S, at atom id
+  tagint id = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     double sum = vfrac[i] * kernel.value(0.0);
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);
       sum += vfrac[j] * kernel.value(pdata[i][k * NPDATA + R0]);
     }
-    if (sum > mymax[0]) {
-      mymax[0] = sum;
-      mymax[1] = atom->tag[i];
+    if (sum > largest) {
+      largest = sum;
+      id = atom->tag[i];
     }
   }
-  MPI_Allreduce(mymax, all, 1, MPI_2DOUBLE_PRECISION, MPI_MAXLOC, world);
-  const double shepard = all[0];
-  const auto id = static_cast<tagint>(all[1]);
+  const auto all = SPHElastic::rank_max(largest, world);
+  MPI_Bcast(&id, 1, MPI_LMP_TAGINT, all.rank, world);
+  const double shepard = all.value;
   if (shepard <= 0.0) return;
 
   if (domain->dimension == 3) {
@@ -359,6 +364,50 @@ void FixSPHPartners::check_volumes_tile_the_body()
 }
 
 /* ----------------------------------------------------------------------
+   the pair of reference partners whose distance grew most from the
+   reference configuration to the current one
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::Stretched::record(const double *xi, const double *xj, double r0, tagint i,
+                                       tagint j, Domain *domain)
+{
+  double del[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+  domain->minimum_image(del[0], del[1], del[2]);
+  const double growth = std::sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]) - r0;
+  if (growth > most) {
+    most = growth;
+    tags[0] = i;
+    tags[1] = j;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the partners are the atoms within the support in the reference
+   configuration, found among the current neighbours (within the support
+   plus the skin).  A partner whose distance grew by more than the skin
+   since the reference is missed, silently changing the gradients, and
+   then its neighbours' distances have grown by about as much: refuse
+   growth beyond STRETCH_SKIN_FRACTION of the skin.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::check_stretch(const Stretched &stretched)
+{
+  const auto all = SPHElastic::rank_max(stretched.most, world);
+  const double skin = neighbor->skin;
+  if (all.value <= STRETCH_SKIN_FRACTION * skin) return;
+  tagint pair[2] = {stretched.tags[0], stretched.tags[1]};
+  MPI_Bcast(pair, 2, MPI_LMP_TAGINT, all.rank, world);
+  error->all(FLERR, Error::NOLASTLINE,
+             "Atoms {} and {} moved {:.3g} apart since the reference configuration, more than "
+             "{} of the neighbor skin {:.3g}: the reference partners, found among the current "
+             "neighbours, may be missed.  Start the first run from the reference configuration "
+             "(displace atoms after it, or make the displaced state the reference with "
+             "reset_sph_reference), or raise the neighbor skin above {:.3g}",
+             pair[0], pair[1], all.value, STRETCH_SKIN_FRACTION, skin,
+             all.value / STRETCH_SKIN_FRACTION);
+}
+
+/* ----------------------------------------------------------------------
    partners of owned atom i: atoms of the same body whose reference
    distance is below the kernel support, sorted by atom ID so that sums
    run in the same order on any number of processors
@@ -366,6 +415,7 @@ void FixSPHPartners::check_volumes_tile_the_body()
 
 void FixSPHPartners::collect_partners()
 {
+  const double *const *const x = atom->x;
   const double *const *const x0 = atom->x0;
   const tagint *const tag = atom->tag;
   const tagint *const molecule = atom->molecule;
@@ -375,6 +425,7 @@ void FixSPHPartners::collect_partners()
 
   std::vector<std::vector<tagint>> found(nlocal);
   int mymax = 0;
+  Stretched stretched;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
@@ -389,7 +440,10 @@ void FixSPHPartners::collect_partners()
                    "Atoms {} and {} have the same reference position ({}, {}, {}): duplicate "
                    "particles (create_atoms run twice, overlapping regions or lattices?)",
                    tag[i], tag[j], x0[i][0], x0[i][1], x0[i][2]);
-      if (rsq < cutsq) found[i].push_back(tag[j]);
+      if (rsq < cutsq) {
+        found[i].push_back(tag[j]);
+        stretched.record(x[i], x[j], std::sqrt(rsq), tag[i], tag[j], domain);
+      }
     }
     // several periodic images of one atom may be neighbours: keep one
     std::sort(found[i].begin(), found[i].end());
@@ -397,6 +451,7 @@ void FixSPHPartners::collect_partners()
     mymax = std::max(mymax, (int) found[i].size());
   }
 
+  check_stretch(stretched);
   MPI_Allreduce(&mymax, &maxpartner, 1, MPI_INT, MPI_MAX, world);
   maxpartner = std::max(maxpartner, 1);
   set_maxexchange();
@@ -547,10 +602,7 @@ void FixSPHPartners::measure_amplification()
 {
   const int dim = domain->dimension;
   const double *const vfrac = atom->vfrac;
-  struct {
-    double value;
-    int rank;
-  } mine = {0.0, comm->me}, all;
+  double largest = 0.0;
   tagint id = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (npartner[i] == 0) continue;
@@ -581,12 +633,12 @@ void FixSPHPartners::measure_amplification()
       const double weight = vfrac[j] * (-kernel.derivative(r) / r);
       linear = std::max(linear, (weight * inverse * del).squaredNorm());
     }
-    if (linear > 0.0 && quadratic > mine.value * mine.value * linear) {
-      mine.value = std::sqrt(quadratic / linear);
+    if (linear > 0.0 && quadratic > largest * largest * linear) {
+      largest = std::sqrt(quadratic / linear);
       id = atom->tag[i];
     }
   }
-  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  const auto all = SPHElastic::rank_max(largest, world);
   MPI_Bcast(&id, 1, MPI_LMP_TAGINT, all.rank, world);
   amplification = all.value;
   amplified_atom = id;

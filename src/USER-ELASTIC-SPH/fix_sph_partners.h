@@ -72,6 +72,12 @@ class FixSPHPartners : public Fix {
   void set_builder(const char *, bool needs_own_state);
   void post_run() override;
   bool built() const { return !first; }
+  // build the partners now if they were not (a fix whose setup would move
+  // atoms away from their reference neighbours first)
+  void build_if_first()
+  {
+    if (first) build();
+  }
   // true if the partners of any sph pair style were built (from the
   // reference positions and volumes, which may then no longer change)
   static bool any_built(class Modify *);
@@ -107,6 +113,14 @@ class FixSPHPartners : public Fix {
   void explain_singular_fit(int i);
   void set_maxexchange();
   void collect_partners();
+  // the reference partners whose distance grew most since the reference
+  struct Stretched {
+    double most = 0.0;
+    tagint tags[2] = {0, 0};
+    void record(const double *xi, const double *xj, double r0, tagint i, tagint j,
+                class Domain *domain);
+  };
+  void check_stretch(const Stretched &);
   void compute_corrections();
   void measure_amplification();
 

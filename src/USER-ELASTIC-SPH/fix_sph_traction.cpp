@@ -40,6 +40,7 @@
 #include "group.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
+#include "sph_elastic_mpi.h"
 #include "update.h"
 
 #include <cmath>
@@ -54,6 +55,9 @@ namespace {
 constexpr double SHARE_TOL = 1.0e-6;
 // load coefficients below this fraction of the largest are the interior's round-off
 constexpr double ROUNDOFF = 1.0e-13;
+// atoms outside the group with more than this fraction of the face's area
+// would change the load
+constexpr double OUTSIDE_TOL = 1.0e-8;
 }    // namespace
 
 /* ----------------------------------------------------------------------
@@ -117,6 +121,10 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, iarg + 2, "Fix sph/traction: a 2d traction has no z component");
 
   for (double &n : normal) n = 0.0;
+  // f_ID reads zeros before the first run
+  for (int m = 0; m < 4; m++) energy_force[m] = energy_force_all[m] = 0.0;
+  support = half_thickness = 0.0;
+  shallow = false;
   scalar_flag = 1;
   vector_flag = 1;
   size_vector = 3;
@@ -146,6 +154,13 @@ void FixSPHTraction::init()
                "internal forces (with another pair style use fix addforce)");
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/traction does not support run_style respa");
+  // a face across which the body continues periodically is no surface:
+  // its atoms' b_i vanish and the load would silently go nowhere
+  if (axis >= 0 && domain->periodicity[axis])
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/traction: the face is normal to {}, a periodic dimension, so the body "
+               "has no surface there; make that boundary non-periodic (boundary s or f)",
+               id, "xyz"[axis]);
   values.resolve(lmp, fmt::format("fix {} sph/traction", id));
   support = pair->get_kernel().support();
 }
@@ -172,12 +187,16 @@ void FixSPHTraction::min_post_force(int vflag)
 /* ----------------------------------------------------------------------
    the face's outward normal points from the group's atoms towards the
    plane; atoms on both sides mean the plane cuts the body.  A face owns
-   the shares of b_i of the atoms nearer to it than to the opposite side
-   of the group (found as far behind the group's farthest layer as the
-   plane is ahead of its nearest one); an atom on the middle plane counts
-   half.  In a body much thicker than the kernel the b_i between the
-   faces vanish, and where the faces' reaches overlap this splits them
-   the way a uniform stress loads both.
+   the shares of b_i of the atoms nearer to it than to the body's opposite
+   side (found as far behind the body's farthest layer as the plane is
+   ahead of its nearest one); an atom on the middle plane counts half.
+   In a body much thicker than the kernel the b_i between the faces
+   vanish, and where the faces' reaches overlap this splits them the way
+   a uniform stress loads both.  The opposite side is the group's, unless
+   body atoms outside the group lie behind it (a group of the layers near
+   the face): then it is the body's.  Where it is a plane of fix
+   sph/mirror, whose atoms a uniform stress leaves in equilibrium, nothing
+   is split off.
 ------------------------------------------------------------------------- */
 
 void FixSPHTraction::find_side()
@@ -207,7 +226,6 @@ void FixSPHTraction::find_side()
   for (double &n : normal) n = 0.0;
   normal[axis] = side_all[0] ? 1.0 : -1.0;
   const double nearest = side_all[0] ? extent_all[0] : -extent_all[1];
-  const double farthest = side_all[0] ? -extent_all[1] : extent_all[0];
   const double gap = std::fabs(plane - nearest);
   if (gap > 0.5 * support)
     error->all(FLERR, Error::NOLASTLINE,
@@ -215,7 +233,57 @@ void FixSPHTraction::find_side()
                "more than a smoothing length; put the face half a particle spacing beyond the "
                "body's outermost layer",
                id, "xyz"[axis], plane, gap, group -> names[igroup]);
-  half_thickness = 0.5 * (std::fabs(plane - farthest) + gap);
+  const double farthest = opposite_side(side_all[0] ? -extent_all[1] : extent_all[0], shallow);
+  if (opposite_is_mirror(farthest))
+    half_thickness = std::fabs(plane - farthest) + 2.0 * support;
+  else
+    half_thickness = 0.5 * (std::fabs(plane - farthest) + gap);
+}
+
+/* ----------------------------------------------------------------------
+   reference coordinate along the axis of the body's side opposite the
+   face: the group's farthest layer at group_far, or the farthest body
+   atom where body atoms outside the group lie within a support behind it
+   (then behind_group is set)
+------------------------------------------------------------------------- */
+
+double FixSPHTraction::opposite_side(double group_far, bool &behind_group) const
+{
+  double **x0 = atom->x0;
+  const int *mask = atom->mask;
+  const int mirrorbits = pair->mirror_groups();
+  const double inward = -normal[axis];
+  const double tol = SHARE_TOL * support;
+  int behind = 0, behind_all = 0;
+  double body_far = -INFINITY, body_far_all = -INFINITY;    // farthest body atom, along inward
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (mask[i] & mirrorbits) continue;
+    const double depth = (x0[i][axis] - group_far) * inward;
+    if (!(mask[i] & groupbit) && depth > tol && depth <= support) behind = 1;
+    if ((plane - x0[i][axis]) * normal[axis] >= 0.0)    // on the body's side of the face
+      body_far = std::max(body_far, x0[i][axis] * inward);
+  }
+  MPI_Allreduce(&behind, &behind_all, 1, MPI_INT, MPI_MAX, world);
+  behind_group = behind_all != 0;
+  if (!behind_group) return group_far;
+  MPI_Allreduce(&body_far, &body_far_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  return body_far_all * inward;
+}
+
+/* ----------------------------------------------------------------------
+   whether a plane of fix sph/mirror normal to the same axis bounds the
+   body at its opposite side (its outermost layer half a spacing away)
+------------------------------------------------------------------------- */
+
+bool FixSPHTraction::opposite_is_mirror(double farthest) const
+{
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    if (mirror->plane_axis() == axis &&
+        std::fabs(mirror->plane_position() - farthest) <= 0.5 * support)
+      return true;
+  }
+  return false;
 }
 
 /* ----------------------------------------------------------------------
@@ -262,10 +330,12 @@ void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
    force on a mirror atom to its source, times the sign of each component
    (-1 clamped, +1 sliding), so a mirror atom's uniform-stress force P b_m
    reaches its source as S P b_m and the source's coefficient takes
-   S (-w N . b_m) or S b_m as well.  Kept where not zero to round-off and
-   shared by all ranks (a face is a small part of the body), so they follow
-   the atoms through migration.  Warns if atoms outside the group would
-   take a share.
+   S (-w N . b_m) or S b_m as well, whether or not the mirror atom is in
+   the group (a group of the body alone still gets its mirrors' shares).
+   Kept where not zero to round-off and shared by all ranks (a face is a
+   small part of the body), so they follow the atoms through migration.
+   Warns if body atoms outside the group would take a share, and stops if
+   they lie behind a group of the layers near the face.
 ------------------------------------------------------------------------- */
 
 void FixSPHTraction::build_coefficients()
@@ -280,8 +350,10 @@ void FixSPHTraction::build_coefficients()
   std::vector<double> mine;                           // (atom ID that takes the load, c[3]) records
   double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
   for (int i = 0; i < atom->nlocal; i++) {
+    // a mirror atom's share is its source's, whichever groups it is in
     const bool is_mirror = mask[i] & mirrorbits;
-    if (!(mask[i] & groupbit) && (axis < 0 || is_mirror)) continue;
+    const bool takes = (mask[i] & groupbit) || is_mirror;
+    if (!takes && axis < 0) continue;
     const double w = face_weight(i);
     if (w == 0.0) continue;
     const int *jl = pair->partner_indices(i);
@@ -303,27 +375,27 @@ void FixSPHTraction::build_coefficients()
       for (int a = 0; a < 3; a++) c[a] *= owner->sign(a);
     }
     const double size = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    share[(mask[i] & groupbit) ? 0 : 1] += size;
+    share[takes ? 0 : 1] += size;
     share[2] = std::max(share[2], size);
-    if (mask[i] & groupbit) mine.insert(mine.end(), {(double) target, c[0], c[1], c[2]});
+    if (takes) mine.insert(mine.end(), {(double) target, c[0], c[1], c[2]});
   }
   MPI_Allreduce(share, share_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&share[2], &share_all[2], 1, MPI_DOUBLE, MPI_MAX, world);
-  if (axis >= 0 && share_all[1] > 1.0e-8 * share_all[0] && comm->me == 0)
+  const double outside = 100.0 * share_all[1] / (share_all[0] + share_all[1]);
+  if (axis >= 0 && shallow && share_all[1] > OUTSIDE_TOL * share_all[0])
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/traction: face {} = {} loads atoms deeper than group {}: the body's "
+               "atoms behind the group carry {:.3g} % of the face's area.  Use a group with all "
+               "of the body's atoms (or all to its middle)",
+               id, "xyz"[axis], plane, group -> names[igroup], outside);
+  if (axis >= 0 && share_all[1] > OUTSIDE_TOL * share_all[0] && comm->me == 0)
     error->warning(FLERR,
                    "Fix {} sph/traction: atoms outside group {} near the face {} = {} carry "
                    "{:.3g} % of its area and get no load; the group should hold the body's atoms "
                    "near the face",
-                   id, group->names[igroup], "xyz"[axis], plane,
-                   100.0 * share_all[1] / (share_all[0] + share_all[1]));
+                   id, group->names[igroup], "xyz"[axis], plane, outside);
 
-  int nmine = (int) mine.size();
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-  std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, world);
+  const std::vector<double> all = SPHElastic::gather_all(mine, world);
   // sum in rank order, the same on every rank, then drop the interior's round-off
   coefficient.clear();
   for (size_t m = 0; m < all.size(); m += 4) {

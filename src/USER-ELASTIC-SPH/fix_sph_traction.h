@@ -58,6 +58,7 @@ class FixSPHTraction : public Fix {
   int nvalues;
   double support;           // kernel support 2h
   double half_thickness;    // atoms nearer to the face than this are its own
+  bool shallow;             // body atoms outside the group lie behind it
   // load coefficients of each loaded atom by ID (f[a] = t[a] c[a] on a face,
   // p c[a] on a surface); the same on every rank
   std::unordered_map<tagint, std::array<double, 3>> coefficient;
@@ -66,6 +67,8 @@ class FixSPHTraction : public Fix {
   int reduced;
 
   void find_side();
+  double opposite_side(double, bool &) const;
+  bool opposite_is_mirror(double) const;
   double face_weight(int) const;
   void consistent_area(int i, const int *jl, double *b) const;
   void build_coefficients();

@@ -31,6 +31,7 @@
 #include "modify.h"
 #include "neighbor.h"
 #include "sph_elastic_math.h"
+#include "sph_elastic_mpi.h"
 #include "update.h"
 
 #include <algorithm>
@@ -254,11 +255,7 @@ bigint PairSPHICB::count_inverted(tagint &id, double &det, int &type) const
 {
   bigint mine = ninverted, all;
   MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  struct {
-    double value;
-    int rank;
-  } rank_mine = {ninverted ? 1.0 : 0.0, comm->me}, rank_all;
-  MPI_Allreduce(&rank_mine, &rank_all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  const auto rank_all = SPHElastic::rank_max(ninverted ? 1.0 : 0.0, world);
   id = inverted_id;
   det = inverted_det;
   type = inverted_type;
@@ -1233,5 +1230,6 @@ double PairSPHICB::memory_usage()
       (double) maxlocal * sizeof(int) + (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double));
   if (vproduct) bytes += (double) nmax_work * 12 * sizeof(double);
   if (dfproduct) bytes += (double) nmax_work * 9 * sizeof(double);
+  bytes += (double) maxpairs_hg * 4 * sizeof(double);
   return bytes + (double) tangents.capacity() * sizeof(double);
 }
