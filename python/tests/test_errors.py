@@ -82,13 +82,20 @@ CASES = [
     ("fix c all sph/contact 0.001 bogus 1", "Unknown fix sph/contact keyword: bogus"),
     ("fix c all sph/contact 0.001 thickness 0.001\nrun 0", "takes the bulk moduli of pair_style"),
     (ICB + "fix c all sph/contact 0.001\nrun 0", "in 2d needs the thickness"),
+    ("change_box all boundary p s p\npair_style sph/ccb 0.0012 thickness 1e-3\n"
+     "pair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\nfix d all deform 1 x erate 0.01 remap v\n"
+     "run 0", "sph/ccb does not support fix deform with remap v"),
     (ICB + "fix c all sph/contact 0.001 thickness 0.001 damping 0.5\nrun 0",
      "damping needs the velocities of ghost atoms"),
     (ICB + "region r block 3 6 INF INF INF INF units lattice\nset region r mol 2\n"
      "fix c all sph/contact 0.01 thickness 0.001\nrun 0", "plus the neighbor skin exceeds the ghost"),
-    ("reset_sph_reference", "expected a group ID"),
+    ("reset_sph_reference", "Illegal reset_sph_reference command: missing argument"),
+    ("reset_sph_reference all extra", "takes one group ID, got an extra argument extra"),
     ("reset_sph_reference nogroup", "Could not find reset_sph_reference group ID nogroup"),
     (ICB + "run 0\nreset_sph_reference all", "the reference partners were already built"),
+    # partners are found among the current neighbours: not from a perturbed body
+    (ICB + "displace_atoms all random 3e-4 3e-4 0 4711 units box\nrun 0",
+     "apart since the reference configuration, more than 0.5 of the"),
     # min_style sph/newton
     ("pair_style zero 0.0012\npair_coeff * *\nmin_style sph/newton" + NEWTON_MIN,
      "requires pair_style sph/icb"),
@@ -119,6 +126,39 @@ def assert_refused(setup, commands, message):
 @pytest.mark.parametrize("commands,message", CASES)
 def test_bad_input_names_the_problem(commands, message):
     assert_refused(BASE, commands, message)
+
+
+@pytest.mark.parametrize("pairs", ["ii", "ij"])
+def test_two_materials_round_trip_through_data_and_coeff_files(tmp_path, pairs):
+    """write_data ... pair ii and pair ij, and write_coeff (which lists
+    every pair), read back with both materials: the cross pairs, which
+    carry no material, are written as 'I J none'."""
+    data, coeffs = tmp_path / "body.data", tmp_path / "coeffs.in"
+    two_types = BASE.replace("create_box 1 box", "create_box 2 box") + (
+        "set group all type/fraction 2 0.5 4711\n"
+        "pair_style sph/icb 0.0012 stress pk1 gradient linear\n"
+        "pair_coeff 1 1 1e9 0.3\npair_coeff 2 2 2e9 0.25 neohookean\n")
+    lmp = make_lammps()
+    lmp.commands_string(two_types + f"run 0\nwrite_data {data} pair {pairs}\n"
+                        f"write_coeff {coeffs}")
+    lmp.close()
+    written = coeffs.read_text()
+    assert "pair_coeff 1 2 none" in written
+    for source in ("data", "coeff"):
+        lmp = make_lammps()
+        setup = ("units si\ndimension 2\nboundary s s p\natom_style sph/elastic\n"
+                 "pair_style sph/icb 0.0012 stress pk1 gradient linear\n")
+        if source == "data":
+            lmp.commands_string(setup + f"read_data {data}")
+        else:
+            lmp.commands_string(two_types.replace("pair_coeff 1 1 1e9 0.3\n", "")
+                                .replace("pair_coeff 2 2 2e9 0.25 neohookean\n", "")
+                                + f"include {coeffs}")
+        lmp.commands_string(f"write_coeff {tmp_path / 'again.in'}\nrun 0")
+        again = (tmp_path / "again.in").read_text()
+        assert "pair_coeff 1 1 1000000000 0.3 svk" in again, source
+        assert "pair_coeff 2 2 2000000000 0.25 neohookean" in again, source
+        lmp.close()
 
 
 @pytest.mark.parametrize("commands,message", [

@@ -19,6 +19,7 @@
 #include "fix_sph_ccb_nve.h"
 
 #include "atom.h"
+#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "pair_sph_ccb.h"
@@ -62,6 +63,13 @@ void FixSPHCCBNVE::init()
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/ccb/nve requires pair style sph/ccb (for sph/icb use fix nve)");
+  // sph/ccb's velocity gradient reads ghost velocities that its forward
+  // communication copies without the shear rate fix deform remap v adds
+  // (checked here: domain->init, which finds fix deform, follows the pair's)
+  if (domain->deform_vremap)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/ccb does not support fix deform with remap v: the velocities of "
+               "periodic images would miss the shear rate (use remap x or none)");
 }
 
 /* ----------------------------------------------------------------------

@@ -474,6 +474,21 @@ void PairSPHCCB::read_restart_settings(FILE *fp)
   art_dp = values[4];
 }
 
+/* ----------------------------------------------------------------------
+   a data file holds the reference state of atom_style sph/elastic only:
+   read back, a sph/ccb body starts at its reference density and free of
+   stress, which is right only for a body at rest in its reference state
+------------------------------------------------------------------------- */
+
+void PairSPHCCB::write_data(FILE *fp)
+{
+  error->warning(FLERR,
+                 "Write_data does not store the density and stress that pair style sph/ccb "
+                 "integrates: read back, the body starts unstressed at its reference density; "
+                 "use write_restart to continue a run");
+  PairSPHElastic::write_data(fp);
+}
+
 /* ---------------------------------------------------------------------- */
 
 int PairSPHCCB::pack_forward_comm(int n, int *list_, double *buf, int /*pbc_flag*/, int * /*pbc*/)

@@ -41,6 +41,7 @@ class PairSPHCCB : public PairSPHElastic {
   void init_list(int, class NeighList *) override;
   void write_restart_settings(FILE *) override;
   void read_restart_settings(FILE *) override;
+  void write_data(FILE *) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;

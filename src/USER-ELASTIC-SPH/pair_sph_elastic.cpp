@@ -200,6 +200,15 @@ void PairSPHElastic::settings(int narg, char **arg)
 
 void PairSPHElastic::coeff(int narg, char **arg)
 {
+  // "I J none" (I != J): the cross-pair lines of write_data ... pair ij and
+  // write_coeff, which list every pair; a cross pair has no material
+  if (narg == 3 && strcmp(arg[2], "none") == 0) {
+    int ilo, ihi, jlo, jhi;
+    utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+    utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+    if (ilo == ihi && jlo == jhi && ilo != jlo) return;
+    error->all(FLERR, 2, "Pair_coeff {} I J none is for a cross pair I != J only", style_name());
+  }
   if (narg != 4 && narg != 5)
     error->all(FLERR,
                "Incorrect number of args for pair_coeff {}: expected I J E nu [law], got {} args",
@@ -590,13 +599,18 @@ void PairSPHElastic::write_data(FILE *fp)
             setflag[i][i] ? materials[i]->name() : "svk");
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   every pair, as read_data's PairIJ Coeffs section and write_coeff need:
+   the cross pairs, which have no material, as "I J none"
+------------------------------------------------------------------------- */
 
 void PairSPHElastic::write_data_all(FILE *fp)
 {
-  for (int i = 1; i <= atom->ntypes; i++)
+  for (int i = 1; i <= atom->ntypes; i++) {
     fprintf(fp, "%d %d %.15g %.15g %s\n", i, i, youngs[i], poisson[i],
             setflag[i][i] ? materials[i]->name() : "svk");
+    for (int j = i + 1; j <= atom->ntypes; j++) fprintf(fp, "%d %d none\n", i, j);
+  }
 }
 
 /* ---------------------------------------------------------------------- */

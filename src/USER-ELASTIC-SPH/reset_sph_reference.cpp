@@ -33,7 +33,10 @@ void ResetSPHReference::command(int narg, char **arg)
 {
   if (!domain->box_exist)
     error->all(FLERR, "Reset_sph_reference command before simulation box is defined");
-  if (narg != 1) error->all(FLERR, "Illegal reset_sph_reference command: expected a group ID");
+  if (narg < 1) utils::missing_cmd_args(FLERR, "reset_sph_reference", error);
+  if (narg > 1)
+    error->all(FLERR, 1, "Reset_sph_reference takes one group ID, got an extra argument {}",
+               arg[1]);
   if (!atom->x0_flag) error->all(FLERR, "Reset_sph_reference requires atom_style sph/elastic");
   const int igroup = group->find(arg[0]);
   if (igroup < 0) error->all(FLERR, "Could not find reset_sph_reference group ID {}", arg[0]);

@@ -14,6 +14,8 @@
 #ifndef LMP_SPH_ELASTIC_KERNEL_H
 #define LMP_SPH_ELASTIC_KERNEL_H
 
+#include "math_const.h"
+
 #include <cmath>
 
 namespace LAMMPS_NS {
@@ -38,7 +40,9 @@ namespace SPHElastic {
       if (type == SINC5)
         norm = ((dimension == 3) ? SINC5_B3 : SINC5_B2) / hd;
       else
-        norm = ((dimension == 3) ? 21.0 / (16.0 * M_PI) : 7.0 / (4.0 * M_PI)) / hd;
+        norm =
+            ((dimension == 3) ? 21.0 / (16.0 * MathConst::MY_PI) : 7.0 / (4.0 * MathConst::MY_PI)) /
+            hd;
     }
 
     double support() const { return 2.0 * h; }
@@ -83,7 +87,7 @@ namespace SPHElastic {
 
    private:
     double norm = 0.0;
-    static constexpr double HALF_PI = 0.5 * M_PI;
+    static constexpr double HALF_PI = MathConst::MY_PI2;
     static constexpr double SMALL_Q = 1.0e-12;
     static constexpr double SINC5_B2 = 0.710379;
     static constexpr double SINC5_B3 = 0.617013;
