@@ -60,5 +60,6 @@ if __name__ == "__main__":
         v = solve_body(Xb, Vb, Sb, dx, nu, "ganz", alpha, -10.0, xc[-1])
         pts = np.vstack([np.full(len(yc), xc[-1]), yc])
         ref = (s.column_probe(pts) @ ufe[1::2]) * 1e4
-        print(f"nu {nu} r {r:g} ell {ell_dx:g} alpha {alpha} exact_low {EXACT_LOW}: dx {dx*1e3:g} mm "
-              f"{(v / ref - 1) * 100:+.4f}% ({len(Xb)} particles, {time.time() - t:.0f} s)", flush=True)
+        print(f"nu {nu} r {r:g} ell {ell_dx:g} alpha {alpha} exact_low {EXACT_LOW}: "
+              f"dx {dx*1e3:g} mm {(v / ref - 1) * 100:+.4f}% ({len(Xb)} particles, "
+              f"{time.time() - t:.0f} s)", flush=True)
