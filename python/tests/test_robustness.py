@@ -157,6 +157,9 @@ def test_newton_does_not_step_into_inversion(tmp_path):
     assert rc == 0, error_line(out)
     assert "every step along the Newton direction inverts particles" in out
     assert "the state is NOT an equilibrium" in out
+    # Newton was not short of iterations: the advice names the law's limit
+    assert "no equilibrium in compression beyond a stretch of 1/sqrt(3)" in out
+    assert "or use min_style sph/newton" not in out
 
 
 def test_moderate_compression_minimises_without_complaint(tmp_path):

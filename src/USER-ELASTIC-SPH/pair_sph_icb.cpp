@@ -309,12 +309,20 @@ void PairSPHICB::report_minimize_residual()
   internal = sqrt(internal);
   const double ratio = internal > 0.0 ? residual / internal : 0.0;
   if (search_failed && ratio <= RESIDUAL_OK) return;
+  // Newton that fails is rarely short of iterations: the load is more than
+  // the body or its law can carry
+  const bool newton = utils::strmatch(update->minimize_style, "^sph/newton");
+  const std::string advice = newton
+      ? "If Newton's force norm stalled, the load may be more than the body can carry: "
+        "St. Venant-Kirchhoff has no equilibrium in compression beyond a stretch of "
+        "1/sqrt(3) (use the neohookean law), or the body lost stability; else raise the "
+        "iteration limits"
+      : "Raise the iteration limits, or use min_style sph/newton (stress pk1)";
   if (comm->me == 0)
     error->warning(FLERR,
                    "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
-                   "force norm {:.6g}: the state is NOT an equilibrium. Raise the iteration "
-                   "limits, or use min_style sph/newton (stress pk1)",
-                   min->stopstr, residual, ratio, internal);
+                   "force norm {:.6g}: the state is NOT an equilibrium. {}",
+                   min->stopstr, residual, ratio, internal, advice);
 }
 
 /* ---------------------------------------------------------------------- */
