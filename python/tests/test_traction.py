@@ -76,6 +76,39 @@ def lattice_2d(lmp, box):
     """)
 
 
+def uniaxial_plane_stress(stretch):
+    """F and P of a uniaxial stretch along x in plane stress, Poisson
+    contraction included: P_yy = 0."""
+    lam, mu = lame(2, "stress")
+    E11 = (stretch ** 2 - 1) / 2
+    E22 = -lam / (lam + 2 * mu) * E11
+    F = np.diag([stretch, np.sqrt(1 + 2 * E22), 1.0])
+    P = pk1(F, 2)
+    assert abs(P[1, 1]) < 1e-6 * P[0, 0]
+    return F, P
+
+
+def mirrored_strip(lmp, box, axis):
+    """The 2d block `box` (lattice units) whose atoms at negative `axis`
+    (x or y) are the mirror atoms of a sliding plane there, its partners
+    built (run 0) in the reference configuration."""
+    lattice_2d(lmp, box)
+    region = {"x": "INF 0.0 INF INF", "y": "INF INF INF 0.0"}[axis]
+    lmp.commands_string(f"""
+        region mirrored block {region} INF INF units box
+        group mirrored region mirrored
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} plane stress
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+        fix sym mirrored sph/mirror {axis} 0.0 slip yes
+        run 0
+    """)
+
+
 def face_loads(lmp, P, n, dim):
     """One fix per face: traction P N on the face with outward normal N."""
     for a in range(dim):
@@ -144,27 +177,9 @@ def test_traction_next_to_a_sliding_mirror_is_an_exact_equilibrium():
     particles near the mirror include what fix sph/mirror hands over from the
     mirror atoms, so the uniform state is still an exact equilibrium."""
     nx, ny = 14, 6
-    lam, mu = lame(2, "stress")
-    E11 = (1.01 ** 2 - 1) / 2
-    E22 = -lam / (lam + 2 * mu) * E11
-    F = np.diag([1.01, np.sqrt(1 + 2 * E22), 1.0])
-    P = pk1(F, 2)
-    assert abs(P[1, 1]) < 1e-6 * P[0, 0]
+    F, P = uniaxial_plane_stress(1.01)
     lmp = make_lammps()
-    lattice_2d(lmp, f"0 {nx} -3 {ny}")
-    lmp.commands_string(f"""
-        region below block INF INF INF 0.0 INF INF units box
-        group below region below
-        set group all mol 1
-        set group all volume {DX * DX * T}
-        set group all mass 1.0
-        set_sph_volumes all lattice {DX} thickness {T}
-        pair_style sph/icb {1.2 * DX} plane stress
-        pair_coeff * * {E} {NU}
-        neighbor {0.5 * DX} bin
-        fix sym below sph/mirror y 0.0 slip yes
-        run 0
-    """)
+    mirrored_strip(lmp, f"0 {nx} -3 {ny}", "y")
     apply_affine(lmp, F, 2)
     x0 = lmp.numpy.extract_atom("x0")
     n = lmp.get_natoms()
@@ -189,26 +204,9 @@ def test_short_body_between_a_mirror_and_a_traction_face_is_an_exact_equilibrium
     face takes all of its b_i (splitting them at the middle left the short
     3d bar's stress 0.2 % off)."""
     ny = 6
-    lam, mu = lame(2, "stress")
-    E11 = (1.01 ** 2 - 1) / 2
-    E22 = -lam / (lam + 2 * mu) * E11
-    F = np.diag([1.01, np.sqrt(1 + 2 * E22), 1.0])
-    P = pk1(F, 2)
+    F, P = uniaxial_plane_stress(1.01)
     lmp = make_lammps()
-    lattice_2d(lmp, f"-3 {nx} 0 {ny}")
-    lmp.commands_string(f"""
-        region left block INF 0.0 INF INF INF INF units box
-        group left region left
-        set group all mol 1
-        set group all volume {DX * DX * T}
-        set group all mass 1.0
-        set_sph_volumes all lattice {DX} thickness {T}
-        pair_style sph/icb {1.2 * DX} plane stress
-        pair_coeff * * {E} {NU}
-        neighbor {0.5 * DX} bin
-        fix sym left sph/mirror x 0.0 slip yes
-        run 0
-    """)
+    mirrored_strip(lmp, f"-3 {nx} 0 {ny}", "x")
     apply_affine(lmp, F, 2)
     t = P[:, 0]
     lmp.command(f"fix load all sph/traction x {nx * DX} traction {t[0]:.17g} {t[1]:.17g}")
