@@ -128,6 +128,20 @@ def test_bad_input_names_the_problem(commands, message):
     assert_refused(BASE, commands, message)
 
 
+def test_write_data_warns_that_ccb_state_is_not_stored(tmp_path):
+    """A data file holds the reference state only: read back, a sph/ccb
+    body would start unstressed, so write_data says so."""
+    from lammps import lammps
+    log = tmp_path / "log.lammps"
+    lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+    lmp.commands_string(BASE + "pair_style sph/ccb 0.0012 thickness 1e-3\n"
+                        "pair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\nrun 0\n"
+                        f"write_data {tmp_path / 'ccb.data'}")
+    lmp.close()
+    assert "Write_data does not store the density and stress that pair style sph/ccb" in (
+        log.read_text())
+
+
 @pytest.mark.parametrize("pairs", ["ii", "ij"])
 def test_two_materials_round_trip_through_data_and_coeff_files(tmp_path, pairs):
     """write_data ... pair ii and pair ij, and write_coeff (which lists
