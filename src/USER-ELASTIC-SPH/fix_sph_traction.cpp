@@ -55,6 +55,13 @@ namespace {
 constexpr double SHARE_TOL = 1.0e-6;
 // load coefficients below this fraction of the largest are the interior's round-off
 constexpr double ROUNDOFF = 1.0e-13;
+// the b_i of a face reach this many kernel supports into the body:
+// measured 3.5 / 5.5 spacings (plain volumes) and 6.5 / 8.5 (with
+// set_sph_volumes' three corrected layers) at h = 1.2 / 2 dx
+constexpr double REACH = 3.0;
+// partners offset along the normal by more than this (in supports, kernel
+// weighted) mean a surface; a lattice's interior is symmetric to round-off
+constexpr double OTHER_SURFACE_MOMENT = 1.0e-6;
 // atoms outside the group with more than this fraction of the face's area
 // would change the load
 constexpr double OUTSIDE_TOL = 1.0e-8;
@@ -123,7 +130,8 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
   for (double &n : normal) n = 0.0;
   // f_ID reads zeros before the first run
   for (int m = 0; m < 4; m++) energy_force[m] = energy_force_all[m] = 0.0;
-  support = half_thickness = 0.0;
+  support = half_thickness = gap = far_side = 0.0;
+  far_is_mirror = false;
   shallow = false;
   scalar_flag = 1;
   vector_flag = 1;
@@ -226,7 +234,7 @@ void FixSPHTraction::find_side()
   for (double &n : normal) n = 0.0;
   normal[axis] = side_all[0] ? 1.0 : -1.0;
   const double nearest = side_all[0] ? extent_all[0] : -extent_all[1];
-  const double gap = std::fabs(plane - nearest);
+  gap = std::fabs(plane - nearest);
   if (gap > 0.5 * support)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix {} sph/traction: the face {} = {} is {} from the nearest atom of group {}, "
@@ -234,10 +242,15 @@ void FixSPHTraction::find_side()
                "body's outermost layer",
                id, "xyz"[axis], plane, gap, group -> names[igroup]);
   const double farthest = opposite_side(side_all[0] ? -extent_all[1] : extent_all[0], shallow);
-  if (opposite_is_mirror(farthest))
+  far_side = std::fabs(plane - farthest);
+  far_is_mirror = opposite_is_mirror(farthest);
+  if (far_is_mirror)
     half_thickness = std::fabs(plane - farthest) + 2.0 * support;
   else
     half_thickness = 0.5 * (std::fabs(plane - farthest) + gap);
+  // beyond its reach the face gives no atom a share; any b_i there belong
+  // to other surfaces with the same normal (a hole's walls, a step)
+  half_thickness = std::min(half_thickness, gap + REACH * support);
 }
 
 /* ----------------------------------------------------------------------
@@ -301,6 +314,46 @@ double FixSPHTraction::face_weight(int i) const
 }
 
 /* ----------------------------------------------------------------------
+   the kernel-weighted mean offset of atom i's partners along the face
+   normal, in supports: zero to round-off where the body is symmetric
+   about X_i along the normal, as in the interior of a lattice (volumes
+   left out: corrected near a surface, they would make it one-sided)
+------------------------------------------------------------------------- */
+
+double FixSPHTraction::normal_moment(int i, const int *jl) const
+{
+  const FixSPHPartners *partners = pair->get_partners();
+  const SPHElastic::Kernel &kernel = pair->get_kernel();
+  double **x0 = atom->x0;
+  double weight = 0.0, moment = 0.0;
+  for (int k = 0; k < partners->npartner[i]; k++) {
+    const int j = jl[k];
+    double del[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
+    domain->minimum_image(del[0], del[1], del[2]);
+    const double w = kernel.value(sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]));
+    weight += w;
+    moment += w * del[axis];
+  }
+  return weight > 0.0 ? moment / (weight * support) : 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   whether atom i lies by another surface with the face's normal (a hole's
+   wall, a step) whose b_i reach into the face's share: more than a support
+   from the plane, where the face cannot truncate i's partners, less than
+   a support from the body's opposite side, which the split handles, and
+   with partners one-sided along the normal
+------------------------------------------------------------------------- */
+
+bool FixSPHTraction::near_other_surface(int i, const int *jl) const
+{
+  const double d = (plane - atom->x0[i][axis]) * normal[axis];
+  if (d <= gap + support || d > half_thickness + REACH * support) return false;
+  if (!far_is_mirror && d >= far_side - support) return false;
+  return std::fabs(normal_moment(i, jl)) > OTHER_SURFACE_MOMENT;
+}
+
+/* ----------------------------------------------------------------------
    b_i = sum_j (V_i g_ij - V_j g_ji); mirror atoms of fix sph/mirror carry
    no stress, so their terms drop out (for a mirror atom i its own too)
 ------------------------------------------------------------------------- */
@@ -347,21 +400,24 @@ void FixSPHTraction::build_coefficients()
   for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
     mirrors.push_back(dynamic_cast<FixSPHMirror *>(fix));
 
-  std::vector<double> mine;                           // (atom ID that takes the load, c[3]) records
+  double other_surface = INFINITY;    // nearest atom of another surface, from the plane
+  std::vector<double> mine;           // (atom ID that takes the load, c[3]) records
   double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
   for (int i = 0; i < atom->nlocal; i++) {
     // a mirror atom's share is its source's, whichever groups it is in
     const bool is_mirror = mask[i] & mirrorbits;
     const bool takes = (mask[i] & groupbit) || is_mirror;
     if (!takes && axis < 0) continue;
-    const double w = face_weight(i);
-    if (w == 0.0) continue;
     const int *jl = pair->partner_indices(i);
     if (!jl)
       error->one(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/traction: the partner indices of atom {} are not current; the pair "
                  "forces must be computed before this fix",
                  id, tag[i]);
+    if (axis >= 0 && !is_mirror && near_other_surface(i, jl))
+      other_surface = std::min(other_surface, std::fabs(atom->x0[i][axis] - plane));
+    const double w = face_weight(i);
+    if (w == 0.0) continue;
     double b[3], c[3];
     consistent_area(i, jl, b);
     for (int a = 0; a < 3; a++) c[a] = (axis >= 0) ? -w * normal[axis] * b[axis] : b[a];
@@ -381,6 +437,15 @@ void FixSPHTraction::build_coefficients()
   }
   MPI_Allreduce(share, share_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&share[2], &share_all[2], 1, MPI_DOUBLE, MPI_MAX, world);
+  double other_all = INFINITY;
+  MPI_Allreduce(&other_surface, &other_all, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (std::isfinite(other_all) && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix {} sph/traction: another surface normal to {} (a hole or a step) has atoms "
+                   "{:.3g} from the face {} = {}, within the {:.3g} its loads reach: the face's "
+                   "loads include that surface's share and are not exact.  Keep other surfaces "
+                   "with this normal farther from a loaded face, or refine",
+                   id, "xyz"[axis], other_all, "xyz"[axis], plane, gap + REACH * support);
   const double outside = 100.0 * share_all[1] / (share_all[0] + share_all[1]);
   if (axis >= 0 && shallow && share_all[1] > OUTSIDE_TOL * share_all[0])
     error->all(FLERR, Error::NOLASTLINE,

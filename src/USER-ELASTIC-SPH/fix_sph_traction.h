@@ -59,6 +59,9 @@ class FixSPHTraction : public Fix {
   double support;           // kernel support 2h
   double half_thickness;    // atoms nearer to the face than this are its own
   bool shallow;             // body atoms outside the group lie behind it
+  double gap;               // from the plane to the group's nearest atom
+  double far_side;          // from the plane to the body's opposite side
+  bool far_is_mirror;       // that side is a plane of fix sph/mirror
   // load coefficients of each loaded atom by ID (f[a] = t[a] c[a] on a face,
   // p c[a] on a surface); the same on every rank
   std::unordered_map<tagint, std::array<double, 3>> coefficient;
@@ -69,6 +72,8 @@ class FixSPHTraction : public Fix {
   void find_side();
   double opposite_side(double, bool &) const;
   bool opposite_is_mirror(double) const;
+  double normal_moment(int, const int *) const;
+  bool near_other_surface(int, const int *) const;
   double face_weight(int) const;
   void consistent_area(int i, const int *jl, double *b) const;
   void build_coefficients();

@@ -640,7 +640,8 @@ void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vecto
         error->all(FLERR, Error::NOLASTLINE,
                    "Min_style sph/newton: PETSc's solve finds no downhill step after {} diagonal "
                    "shifts (up to {:.3g}); the Hessian may be singular (a body free to move) or "
-                   "the run unstable",
+                   "the run unstable.  At a saddle (a body that lost stability) min_modify "
+                   "solver direct, which factorises the Hessian, may still converge",
                    MAXSHIFT, total);
       shift_diagonal(next - total);
       total = next;
