@@ -225,6 +225,21 @@ def make_mesh(problem: Problem, level: int, grade: dict | None = None,
     return skfem.MeshHex.init_tensor(xs, ys, zs)
 
 
+def uniform_mesh(problem: Problem, node_spacing: float):
+    """A uniform 2D Q2 mesh of the problem with nodes node_spacing apart
+    (elements twice that): the uniform-resolution peer of a particle model
+    with spacing dx = node_spacing, which, unlike the graded reference
+    meshes, does not resolve the clamp's corner singularity."""
+    import skfem
+
+    if problem.dim != 2:
+        raise ValueError(f"uniform_mesh is 2D only; {problem.name} is {problem.dim}D")
+    element = 2.0 * node_spacing
+    xs = np.linspace(0.0, problem.L, int(round(problem.L / element)) + 1)
+    ys = np.linspace(0.0, problem.H, int(round(problem.H / element)) + 1)
+    return skfem.MeshQuad.init_tensor(xs, ys)
+
+
 # ----------------------------------------------------------------------------
 # the solver
 # ----------------------------------------------------------------------------

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from scipy import optimize, special
 
 # Table 1 of Tran-Duc et al. (2023): loads (N) and displacements (mm)
@@ -350,3 +351,86 @@ def flat_contact_impact(area: float, E: float, nu: float, m: float, v: float,
     ms = 0.5 * m
     force = v * math.sqrt(ms * k)
     return Impact(math.pi * math.sqrt(ms / k), force, force / k, a, force / area)
+
+
+# Corner singularities (M. L. Williams, "Stress singularities resulting from
+# various boundary conditions in angular corners of plates in extension",
+# J. Appl. Mech. 19, 526-528, 1952).  Near the corner of a wedge of opening
+# angle alpha the displacement goes as r^lambda, the stress as r^(lambda-1).
+# With the Kolosov-Muskhelishvili potentials phi = a z^lambda and
+# psi = b z^lambda (a, b complex, lambda real), on an edge theta = const
+#     traction free:  phi + z conj(phi') + conj(psi) = 0
+#     clamped:        kappa phi - z conj(phi') - conj(psi) = 0      (2 mu u = ...)
+# which, divided by r^lambda, is
+#     c_a a + c_abar conj(a) + c_bbar conj(b) = 0
+# with c_a = e^(i lambda theta) (kappa e^(i lambda theta) when clamped),
+# c_abar = +-lambda e^(i (2 - lambda) theta), c_bbar = +-e^(-i lambda theta)
+# (+ free, - clamped).  Two edges give four real equations in Re/Im a, b;
+# lambda is an exponent where their determinant vanishes.
+WEDGE_EDGES = ("free", "clamped")
+
+
+def kolosov_kappa(nu: float, plane: str) -> float:
+    """Kolosov's constant: (3 - nu)/(1 + nu) in plane stress, 3 - 4 nu in
+    plane strain (and along a straight edge of a 3d body, which is locally in
+    plane strain)."""
+    if plane == "stress":
+        return (3.0 - nu) / (1.0 + nu)
+    if plane in ("strain", "3d"):
+        return 3.0 - 4.0 * nu
+    raise ValueError(f"plane must be 'stress', 'strain' or '3d', not {plane!r}")
+
+
+def _edge_equations(edge: str, lam: float, theta: float, kappa: float):
+    """The two real rows (real and imaginary part) of one edge's condition,
+    columns Re a, Im a, Re b, Im b."""
+    sign = 1.0 if edge == "free" else -1.0
+    c_a = (1.0 if edge == "free" else kappa) * np.exp(1j * lam * theta)
+    c_abar = sign * lam * np.exp(1j * (2.0 - lam) * theta)
+    c_bbar = sign * np.exp(-1j * lam * theta)
+    # a = a1 + i a2: c_a a + c_abar conj(a) = (c_a + c_abar) a1 + i (c_a - c_abar) a2
+    cols = np.array([c_a + c_abar, 1j * (c_a - c_abar), c_bbar, -1j * c_bbar])
+    return np.vstack([cols.real, cols.imag])
+
+
+def wedge_determinant(lam: float, angle: float, edges: tuple[str, str], kappa: float) -> float:
+    """Determinant of the corner's homogeneous conditions for the exponent lam:
+    edge edges[0] at theta = 0, edges[1] at theta = angle."""
+    for edge in edges:
+        if edge not in WEDGE_EDGES:
+            raise ValueError(f"edge must be one of {WEDGE_EDGES}, not {edge!r}")
+    rows = np.vstack([_edge_equations(edges[0], lam, 0.0, kappa),
+                      _edge_equations(edges[1], lam, angle, kappa)])
+    return float(np.linalg.det(rows))
+
+
+def wedge_exponents(angle: float, edges: tuple[str, str], kappa: float,
+                    upper: float = 1.5, samples: int = 3000) -> list[float]:
+    """The real exponents lambda in (0, upper] of a wedge's corner fields,
+    ascending.  Roots are found where the determinant changes sign, so a
+    root of even multiplicity (the crack's double 1/2) and the complex
+    exponents of, for example, a clamped-free half-plane are not listed.
+    For two free edges lambda = 1 includes the rigid rotation."""
+    grid = np.linspace(1e-3, upper, samples)
+    values = [wedge_determinant(lam, angle, edges, kappa) for lam in grid]
+    roots = []
+    for lo, hi, f_lo, f_hi in zip(grid[:-1], grid[1:], values[:-1], values[1:]):
+        if f_lo == 0.0:
+            roots.append(float(lo))
+        elif f_lo * f_hi < 0.0:
+            roots.append(optimize.brentq(wedge_determinant, lo, hi, xtol=1e-14,
+                                         args=(angle, edges, kappa)))
+    return roots
+
+
+def clamp_corner_order(nu: float, plane: str) -> tuple[float, float]:
+    """(lambda, q_max) at the corner where a clamped face meets a free face
+    at a right angle (a cantilever's clamp).  The displacement near it goes as
+    r^lambda; lambda = 1 at nu = 0, where the clamp does not stop a Poisson
+    contraction, and below 1 for nu > 0, where the stress is singular.  A
+    tip displacement, a functional whose dual problem has the same corner,
+    then converges on uniform resolution at the order q_max = min(2, 2 lambda)
+    at best (Strang and Fix, An Analysis of the Finite Element Method, 1973,
+    ch. 8), whatever the scheme's own order."""
+    lam = wedge_exponents(0.5 * math.pi, ("clamped", "free"), kolosov_kappa(nu, plane))[0]
+    return lam, min(2.0, 2.0 * lam)

@@ -300,3 +300,25 @@ def test_3d_nu0_equals_2d_plane_stress():
                 rs = fe.tip("beam3d_short", short_load, dx / 2, nu=0.0)
                 for c in ("dh", "dv"):
                     assert abs(2 * rs[c] - r2[c]) <= 2 * rs["err_" + c] + r2["err_" + c]
+
+
+def test_uniform_meshes_converge_at_the_clamp_corner_bound():
+    """Q2 elements on uniform meshes (the particles' resolution) against the
+    graded reference: exact to 1e-5 at nu = 0, where the clamp's corners
+    are regular, and at nu = 0.3 at about Williams' 2 lambda = 1.52, not 2."""
+    problem = fe.PROBLEMS["beam"]
+    _, q_max = theory.clamp_corner_order(0.3, "stress")
+    for nu in (0.0, 0.3):
+        errs = []
+        for dx in (0.002, 0.001):
+            tips = fe.solve_case(problem, [-10.0], nu, "stress", fe.uniform_mesh(problem, dx),
+                                 dxs=(dx,))
+            errs.append(tips[-10.0][0][1] / fe.tip("beam", -10.0, dx, nu, "stress")["dv"] - 1)
+        if nu == 0.0:
+            assert max(abs(e) for e in errs) < 1e-5
+        else:
+            assert min(abs(e) for e in errs) > 1e-5      # the corners are felt
+            q = math.log(errs[0] / errs[1]) / math.log(2.0)
+            assert q == pytest.approx(q_max, abs=0.1)
+    with pytest.raises(ValueError, match="2D only"):
+        fe.uniform_mesh(fe.PROBLEMS["beam3d"], 0.002)

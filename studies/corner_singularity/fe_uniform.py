@@ -6,9 +6,6 @@ error is at round-off.  Run from python/ (cd ../../python) with the venv."""
 import sys
 from pathlib import Path
 
-import numpy as np
-import skfem
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 from esph import fe  # noqa: E402
 
@@ -16,9 +13,7 @@ P = fe.PROBLEMS["beam"]
 for nu in (0.0, 0.3):
     ref = {dx: fe.tip("beam", -10.0, dx, nu, "stress")["dv"] for dx in (0.002, 0.001)}
     for he in (0.004, 0.002, 0.001):   # Q2 element size; node spacing he/2
-        xs = np.linspace(0, P.L, int(round(P.L / he)) + 1)
-        ys = np.linspace(0, P.H, int(round(P.H / he)) + 1)
-        mesh = skfem.MeshQuad.init_tensor(xs, ys)
+        mesh = fe.uniform_mesh(P, he / 2)
         v = fe.solve_case(P, [-10.0], nu, "stress", mesh, dxs=(0.002, 0.001))[-10.0]
         print(f"nu {nu} uniform Q2, nodes every {he / 2 * 1e3:.1f} mm: tip column of dx = 2 / 1 mm "
               + " / ".join(f"{(v[i][1] / ref[dx] - 1) * 100:+.4f} %"
