@@ -104,6 +104,92 @@ def test_neohookean_uniform_stretch_gives_its_exact_stress(dim, plane):
     lmp.close()
 
 
+def nh_uniaxial_strain_energy(eps, youngs=E, nu=NU):
+    """W of F = diag(1 + eps, 1, 1), free of cancellation at small eps:
+    tr C - 3 - 2 ln J = eps^2 + 2 (eps - ln(1 + eps)), the bracket summed
+    as its series 2 sum_k>=2 (-1)^k eps^k / k."""
+    lam, mu = lame(youngs, nu)
+    series = sum((-1) ** k * eps ** k / k for k in range(2, 30))
+    return 0.5 * mu * (eps * eps + 2.0 * series) + 0.5 * lam * math.log1p(eps) ** 2
+
+
+def uniaxial_energy_error(law, eps):
+    """Relative error of a 3d block's energy under F = diag(1 + eps, 1, 1)
+    against the exact W of the law times the block's volume."""
+    lmp = law_block((5, 5, 5), 3, law=law)
+    lmp.commands_string("thermo_style custom step pe\nrun 0")
+    apply_affine(lmp, np.diag([1.0 + eps, 1.0, 1.0]), 3)
+    lmp.command("run 0")
+    volume = float(np.sum(lmp.numpy.extract_atom("vfrac")[:lmp.get_natoms()]))
+    if law == "svk":
+        lam, mu = lame(E, NU)
+        green = eps + 0.5 * eps * eps
+        exact = (0.5 * lam + mu) * green * green
+    else:
+        exact = nh_uniaxial_strain_energy(eps)
+    error = lmp.get_thermo("pe") / (exact * volume) - 1.0
+    lmp.close()
+    return error
+
+
+@pytest.mark.parametrize("eps", [1e-7, 1e-4])
+def test_neohookean_energy_keeps_its_precision_at_small_strain(eps):
+    """The energy is O(strain^2) while tr C - 3 and 2 ln J are O(strain):
+    formed naively their difference lost 1e-16/strain^2 (2e-3 at 1e-7),
+    which stalled sph/newton's line search.  Both laws now share the floor
+    of F itself (about 1e-14 from the quadratic gradient's solve: 4e-7 of
+    the energy at a strain of 1e-7)."""
+    nh, svk = uniaxial_energy_error("neohookean", eps), uniaxial_energy_error("svk", eps)
+    assert abs(nh) < 1e-5
+    assert abs(nh - svk) < 1e-8
+
+
+@pytest.mark.parametrize("plane", ["stress", "strain"])
+def test_neohookean_statics_at_a_strain_of_1e_7_is_hookes_law(plane):
+    """A strip stretched by 1e-7 between two sliding platens (fix sph/mirror
+    displace) by min_style sph/newton: sigma_xx = E eps in plane stress,
+    E eps/(1 - nu^2) in plane strain, at every particle (it stopped 1-8 %
+    off at the energy's round-off floor before)."""
+    eps, length = 1e-7, 0.02
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 2
+        boundary s s p
+        atom_style sph/elastic
+        atom_modify map array
+        lattice sq 0.001 origin 0.5 0.5 0.0
+        region domain block -3 23 0 8 -0.5 0.5
+        create_box 1 domain
+        create_atoms 1 region domain
+        set group all mol 1
+        region left block INF 0.0 INF INF INF INF units box
+        region right block {length} INF INF INF INF INF units box
+        region pin block 0.0 0.001 0.0 0.001 INF INF units box
+        group left region left
+        group right region right
+        group pin region pin
+        group platens union left right
+        group body subtract all platens
+        set_sph_volumes all lattice 0.001 thickness 0.001 density 1000.0
+        pair_style sph/icb 0.0012 plane {plane}
+        pair_coeff * * {E} {NU} neohookean
+        neighbor 0.0005 bin
+        fix base left sph/mirror x 0.0 slip yes
+        fix platen right sph/mirror x {length} displace {eps * length} 0.0 slip yes
+        fix pin pin setforce NULL 0.0 NULL
+        compute s body sph/elastic/atom stress
+        min_style sph/newton
+        minimize 0.0 {1e-9 * E * eps * 0.008 * 0.001} 50 100
+    """)
+    sxx = per_atom(lmp, "s", cols=True)[:, 0]
+    want = E * eps / (1.0 if plane == "stress" else 1.0 - NU * NU)
+    x0 = np.array(lmp.numpy.extract_atom("x0")[:lmp.get_natoms()])
+    inside = (x0[:, 0] > 0.0) & (x0[:, 0] < length)
+    assert np.abs(sxx[inside] / want - 1.0).max() < 1e-5
+    lmp.close()
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 def test_neohookean_rigid_rotation_is_stress_free(dim):
     lmp = law_block((7, 6, 1) if dim == 2 else (5, 5, 5), dim, "stress" if dim == 2 else None)
