@@ -252,6 +252,63 @@ def test_another_surface_within_the_face_reach_is_warned(tmp_path, hole):
         assert total == pytest.approx(-1e6 * 8 * DX * T, rel=1e-12)
 
 
+def test_surface_pressure_next_to_a_mirror_loads_only_the_group():
+    """A strip on a sliding mirror plane y = 0, pressure on the surfaces of
+    its left third only: the mirror atoms hand their shares to their
+    sources where the sources are in the group, so nothing far from the
+    group is loaded (every mirror atom's share went to its source before:
+    p dx t on the whole row next to the plane), and the left part's load
+    is the one of the same strip without the mirror atoms' hand-over."""
+    lmp = make_lammps()
+    lattice_2d(lmp, "0 30 -3 10")
+    lmp.commands_string(f"""
+        set group all mol 1
+        set_sph_volumes all lattice {DX} thickness {T}
+        pair_style sph/icb {1.2 * DX} plane strain
+        pair_coeff * * {E} {NU}
+        region mir block INF INF INF 0.0 INF INF units box
+        group mir region mir
+        fix sym mir sph/mirror y 0.0 slip yes
+        region left block INF {10 * DX} INF INF INF INF units box
+        group left region left
+        fix press left sph/traction surface pressure 1.0e5
+        run 0
+    """)
+    x0 = np.array(lmp.numpy.extract_atom("x0")[:lmp.get_natoms()])
+    f = net_forces(lmp)
+    lmp.close()
+    far = (x0[:, 0] > 20 * DX) & (x0[:, 1] > 0)
+    # the pair forces of the reference state are round-off: 2e-8 of p dx t
+    assert np.abs(f[far]).max() < 1e-6 * 1.0e5 * DX * T
+    assert np.abs(f[x0[:, 0] < 10 * DX]).max() > 0.1 * 1.0e5 * DX * T
+
+
+@pytest.mark.parametrize("nlayer,warned", [(5, True), (20, False)])
+def test_pressure_group_mixing_two_surfaces_is_warned(tmp_path, nlayer, warned):
+    """A ring pressurised inside, the group ending midway through the wall:
+    with 5 particles through the wall the inner and outer surfaces' loads
+    overlap and no group separates them (Lame's cylinder came out 8 ... 130 %
+    off, depending on where the group ended, without a word); with 20 the
+    cut carries nothing and the fix stays silent."""
+    from test_volumes import ring_body
+    r_in = 0.02
+    lmp, _ = ring_body(nlayer, r_in, centre=(0.0, 0.0))
+    log = tmp_path / "log.lammps"
+    lmp.command(f"log {log}")
+    lmp.commands_string(f"""
+        set_sph_volumes all polar {DX} 0.0 0.0 thickness {T} density 1000.0
+        pair_style sph/icb {1.2 * DX} plane strain
+        pair_coeff * * {E} {NU}
+        neighbor {0.5 * DX} bin
+        region bore cylinder z 0.0 0.0 {r_in + 0.5 * nlayer * DX} INF INF units box
+        group bore region bore
+        fix inflate bore sph/traction surface pressure 1.0e5
+        run 0
+    """)
+    lmp.close()
+    assert ("the group's loads mix those of two surfaces" in log.read_text()) == warned
+
+
 @pytest.mark.parametrize("volumes", [False, True])
 def test_face_load_resultant_is_traction_times_area(volumes):
     """The consistent forces of a face sum to t times the face area, with

@@ -404,7 +404,7 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
    local index (owned or ghost copy) of the source of owned mirror atom i
 ------------------------------------------------------------------------- */
 
-int FixSPHMirror::local_source(int i)
+int FixSPHMirror::local_source(int i) const
 {
   const tagint itag = atom->tag[i];
   const auto it = source.find(itag);

@@ -66,6 +66,8 @@ class FixSPHMirror : public Fix {
   // the plane: its normal axis (0, 1, 2) and reference position
   int plane_axis() const { return axis; }
   double plane_position() const { return plane; }
+  // local index (owned or ghost copy) of the source of owned mirror atom i
+  int local_source(int i) const;
 
  private:
   int axis;                           // normal of the mirror plane: 0, 1, 2 = x, y, z
@@ -84,7 +86,6 @@ class FixSPHMirror : public Fix {
   bool thin_warned = false;
   void pair_up();
   void copy_volume(tagint, double, double);
-  int local_source(int i);
   void place_mirrors(const double *u0);
   void build_partners_undisplaced(class FixSPHPartners *);
   void hand_over_forces();

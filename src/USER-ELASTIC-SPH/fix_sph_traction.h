@@ -75,6 +75,7 @@ class FixSPHTraction : public Fix {
   double normal_moment(int, const int *) const;
   bool near_other_surface(int, const int *) const;
   double face_weight(int) const;
+  bool has_partner_in_group(int i, const int *jl) const;
   void consistent_area(int i, const int *jl, double *b) const;
   void build_coefficients();
 };
