@@ -20,6 +20,7 @@ from conftest import apply_affine, block, make_lammps, per_atom
 from esph.problems import BEAM, BEAM3D, TRUSS
 from esph.runner import run_script
 from test_patch import VOIGT, rotation_matrix, svk_cauchy
+from test_traction import lattice_2d
 
 E, NU = 1.0e9, 0.3
 
@@ -152,16 +153,8 @@ def test_neohookean_statics_at_a_strain_of_1e_7_is_hookes_law(plane):
     off at the energy's round-off floor before)."""
     eps, length = 1e-7, 0.02
     lmp = make_lammps()
+    lattice_2d(lmp, "-3 23 0 8")         # spacing 1 mm
     lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq 0.001 origin 0.5 0.5 0.0
-        region domain block -3 23 0 8 -0.5 0.5
-        create_box 1 domain
-        create_atoms 1 region domain
         set group all mol 1
         region left block INF 0.0 INF INF INF INF units box
         region right block {length} INF INF INF INF INF units box
