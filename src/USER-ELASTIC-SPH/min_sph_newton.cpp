@@ -55,6 +55,9 @@ constexpr double ARMIJO = 1.0e-4;       // sufficient-decrease fraction of the l
 constexpr int MAXHALVING = 40;          // step halvings before the line search gives up
 constexpr double ROUNDOFF = 1.0e-13;    // relative energy change below round-off
 constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |f| by 10 %
+// a Newton step that promises less than this relative energy decrease
+// (f.h / 2) cannot be told from the energy's own round-off
+constexpr double PROMISE_ROUNDOFF = 1.0e-11;
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 // Newton-Krylov: the forcing term eta (GMRES stops at |J s - f| <= eta |f|)
@@ -485,6 +488,15 @@ int MinSPHNewton::line_search(double fdoth)
     }
     alpha *= 0.5;
   }
+  // a step that promised a decrease above round-off and found none means a
+  // force without its energy; one that promised less is at the floor
+  if (0.5 * fdoth <= PROMISE_ROUNDOFF * fabs(e0))
+    return abandon_step(ninverted_trials == MAXHALVING,
+                        fmt::format("Min_style sph/newton: the force norm {:.8g} is at its "
+                                    "round-off floor (the Newton step promised an energy "
+                                    "decrease of {:.3g} of the energy, below what double "
+                                    "precision resolves); the force tolerance asks for less",
+                                    sqrt(fnorm0), 0.5 * fdoth / fabs(e0)));
   return abandon_step(ninverted_trials == MAXHALVING,
                       "Min_style sph/newton: no energy decrease along the Newton step; is every "
                       "external load in the energy ('fix_modify ID energy yes')?");

@@ -295,6 +295,10 @@ void PairSPHICB::report_minimize_residual()
   // a line search that gives up with a residual this small has converged
   // as far as round-off allows
   constexpr double RESIDUAL_OK = 1.0e-6;
+  // a residual this small is an equilibrium whatever stopped the minimiser
+  constexpr double RESIDUAL_ROUNDOFF = 1.0e-10;
+  // a residual this much larger than the elastic forces: the body never took the load
+  constexpr double LOAD_UNSEEN = 1.0e3;
   Min *min = update->minimize;
   const int stop = min->stop_condition;
   const bool limit = stop == Min::MAXITER || stop == Min::MAXEVAL || stop == Min::TIMEOUT ||
@@ -309,15 +313,29 @@ void PairSPHICB::report_minimize_residual()
   internal = sqrt(internal);
   const double ratio = internal > 0.0 ? residual / internal : 0.0;
   if (search_failed && ratio <= RESIDUAL_OK) return;
+  if (ratio <= RESIDUAL_ROUNDOFF) {
+    if (comm->me == 0)
+      error->warning(FLERR,
+                     "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
+                     "force norm {:.6g}: an equilibrium to round-off; the force tolerance {:.3g} "
+                     "asks for less than double precision resolves",
+                     min->stopstr, residual, ratio, internal, update->ftol);
+    return;
+  }
   // Newton that fails is rarely short of iterations: the load is more than
-  // the body or its law can carry
+  // the body or its law can carry, or the minimiser cannot see the load
   const bool newton = utils::strmatch(update->minimize_style, "^sph/newton");
-  const std::string advice = newton
-      ? "If Newton's force norm stalled, the load may be more than the body can carry: "
-        "St. Venant-Kirchhoff has no equilibrium in compression beyond a stretch of "
-        "1/sqrt(3) (use the neohookean law), or the body lost stability; else raise the "
-        "iteration limits"
-      : "Raise the iteration limits, or use min_style sph/newton (stress pk1)";
+  std::string advice;
+  if (search_failed && ratio > LOAD_UNSEEN)
+    advice = "The body hardly deformed: the minimiser sees no energy in the load (give its fix "
+             "'fix_modify ID energy yes') or the load cannot move the atoms it acts on";
+  else if (newton)
+    advice = "If Newton's force norm stalled, the load may be more than the body can carry: "
+             "St. Venant-Kirchhoff has no equilibrium in compression beyond a stretch of "
+             "1/sqrt(3) (use the neohookean law), or the body lost stability; else raise the "
+             "iteration limits";
+  else
+    advice = "Raise the iteration limits, or use min_style sph/newton (stress pk1)";
   if (comm->me == 0)
     error->warning(FLERR,
                    "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
