@@ -253,6 +253,48 @@ def test_rings_integrate_every_quadratic_exactly(nlayer):
     lmp.close()
 
 
+
+def ring_volumes(lmp):
+    n = lmp.get_natoms()
+    tags = np.array(lmp.numpy.extract_atom("id")[:n])
+    return dict(zip(tags.tolist(), np.array(lmp.numpy.extract_atom("vfrac")[:n]).tolist()))
+
+
+def test_a_quarter_ring_between_mirror_planes_gets_the_full_rings_volumes(tmp_path):
+    """A quarter model of a ring (x, y >= 0, plus the mirror atoms of the
+    symmetry planes x = 0 and y = 0, 3.5 layers deep): each circle is an
+    evenly spaced arc, whose atoms get the volumes they have in the full
+    ring, so that the mirrored body integrates every quadratic exactly.
+    Warned, as a free end of an arc would not be corrected; a circle that
+    is neither one even arc nor evenly filled is an error."""
+    full, _ = ring_body(8, 0.02, centre=(0.0, 0.0))
+    full.command(f"set_sph_volumes all polar {DX} 0.0 0.0 thickness {T} density 7")
+    want = ring_volumes(full)
+    full.close()
+    quarter, _ = ring_body(8, 0.02, centre=(0.0, 0.0))
+    log = tmp_path / "log.lammps"
+    quarter.command(f"log {log}")
+    quarter.commands_string(f"""
+        region farx block INF {-3.5 * DX} INF INF INF INF units box
+        region fary block INF INF INF {-3.5 * DX} INF INF units box
+        delete_atoms region farx compress no
+        delete_atoms region fary compress no
+        set_sph_volumes all polar {DX} 0.0 0.0 thickness {T} density 7
+    """)
+    got = ring_volumes(quarter)
+    assert 0.25 * len(want) < len(got) < 0.5 * len(want)
+    for tag, volume in got.items():
+        assert volume == pytest.approx(want[tag], rel=1e-13)
+    # one atom moved along its circle: no longer an even arc
+    x = quarter.numpy.extract_atom("x0")
+    r = math.hypot(x[0, 0], x[0, 1])
+    th = math.atan2(x[0, 1], x[0, 0]) + 0.01
+    x[0, 0], x[0, 1] = r * math.cos(th), r * math.sin(th)
+    with pytest.raises(Exception, match="atoms on the circle of radius .* are neither"):
+        quarter.command(f"set_sph_volumes all polar {DX} 0.0 0.0 thickness {T} density 7")
+    quarter.close()
+    assert "circles are evenly spaced arcs, not full circles" in log.read_text()
+
 BAD = [
     # (commands before, the command, words the error must contain)
     ("", "set_sph_volumes all lattice 0.001", "thickness"),

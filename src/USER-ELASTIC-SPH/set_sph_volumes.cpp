@@ -41,6 +41,7 @@
 #include "group.h"
 #include "math_const.h"
 #include "modify.h"
+#include "sph_elastic_mpi.h"
 
 #include <algorithm>
 #include <climits>
@@ -335,9 +336,11 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
     error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes polar: {} layers; wrong spacing?",
                nlayer);
 
-  // per layer: count and the first two angular moments sum exp(i m theta)
+  // per layer: count and the first two angular moments sum exp(i m theta),
+  // and the atoms' (layer, angle) pairs for the circles that are arcs
   std::vector<int> layer(nlocal, -1);
   std::vector<double> moments(5 * nlayer, 0.0), moments_all(5 * nlayer);
+  std::vector<double> angles_mine;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double u = (radius(i) - r_lo) / spacing;
@@ -355,21 +358,44 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
     m[2] += std::sin(theta);
     m[3] += std::cos(2.0 * theta);
     m[4] += std::sin(2.0 * theta);
+    angles_mine.insert(angles_mine.end(), {(double) k, theta});
   }
   MPI_Allreduce(moments.data(), moments_all.data(), 5 * nlayer, MPI_DOUBLE, MPI_SUM, world);
 
+  // sites per full circle: the atoms of an evenly filled circle, or those
+  // an evenly spaced arc would have if it went round
+  std::vector<double> sites(nlayer, 0.0);
+  std::vector<std::vector<double>> arc_angles(nlayer);
   for (long long k = 0; k < nlayer; k++) {
     const double *m = &moments_all[5 * k];
-    if (m[0] == 0.0) continue;
-    const double r = r_lo + k * spacing;
-    if (m[0] < 3.0 || std::hypot(m[1], m[2]) > ANGLE_TOL * m[0] ||
-        std::hypot(m[3], m[4]) > ANGLE_TOL * m[0])
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Set_sph_volumes polar: the {} atoms on the circle of radius {} are not evenly "
-                 "spaced in angle (at least 3 are needed); polar volumes need every circle "
-                 "evenly filled",
-                 (bigint) m[0], r);
+    if (m[0] >= 3.0 && std::hypot(m[1], m[2]) <= ANGLE_TOL * m[0] &&
+        std::hypot(m[3], m[4]) <= ANGLE_TOL * m[0])
+      sites[k] = m[0];
   }
+  const std::vector<double> angles = SPHElastic::gather_all(angles_mine, world);
+  for (size_t a = 0; a < angles.size(); a += 2) {
+    const auto k = (long long) angles[a];
+    if (sites[k] == 0.0 && moments_all[5 * k] > 0.0) arc_angles[k].push_back(angles[a + 1]);
+  }
+  bigint narc = 0;
+  double arc_radius = 0.0, arc_sites = 0.0, arc_atoms = 0.0;
+  for (long long k = 0; k < nlayer; k++) {
+    if (arc_angles[k].empty()) continue;
+    const double r = r_lo + k * spacing;
+    sites[k] = arc_sites_per_circle(arc_angles[k], r);
+    if (narc++ == 0) {
+      arc_radius = r;
+      arc_sites = sites[k];
+      arc_atoms = moments_all[5 * k];
+    }
+  }
+  if (narc && comm->me == 0)
+    error->warning(FLERR,
+                   "Set_sph_volumes polar: {} circles are evenly spaced arcs, not full circles "
+                   "(radius {}: {} of {} sites); their atoms get the volumes of the full circle, "
+                   "exact for a sector whose ends are fix sph/mirror symmetry planes (a half or "
+                   "quarter model); a free end of an arc is not corrected",
+                   narc, arc_radius, (bigint) arc_atoms, (bigint) arc_sites);
 
   bigint nthin = 0;
   for (int i = 0; i < nlocal; i++) {
@@ -384,7 +410,7 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
     else if (correct)
       w += END_CORRECTION[below] + END_CORRECTION[above];
     const double r = r_lo + k * spacing;
-    volume[i] = w * thickness * spacing * r * MY_2PI / moments_all[5 * k];
+    volume[i] = w * thickness * spacing * r * MY_2PI / sites[k];
   }
   bigint nthin_all;
   MPI_Allreduce(&nthin, &nthin_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
@@ -393,6 +419,38 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
                    "Set_sph_volumes polar: {} atoms lie in walls of only 1 or 2 layers, where no "
                    "end correction is exact; their volumes are not corrected",
                    nthin_all);
+}
+
+/* ----------------------------------------------------------------------
+   the atoms of a circle that is not evenly filled must form one arc of
+   an evenly spaced circle: all angular gaps but the arc's opening equal
+   2 pi / N for an integer N, which this returns
+------------------------------------------------------------------------- */
+
+double SetSPHVolumes::arc_sites_per_circle(std::vector<double> &theta, double r) const
+{
+  std::sort(theta.begin(), theta.end());
+  const size_t n = theta.size();
+  std::vector<double> gaps(n);
+  for (size_t j = 0; j + 1 < n; j++) gaps[j] = theta[j + 1] - theta[j];
+  gaps[n - 1] = MY_2PI - (theta[n - 1] - theta[0]);
+  const double step = *std::min_element(gaps.begin(), gaps.end());
+  const double sites = MY_2PI / step;
+  int opening = 0;
+  bool even = n >= 3 && step > 0.0 && std::fabs(sites - std::round(sites)) <= LATTICE_TOL * sites;
+  for (double gap : gaps)
+    if (std::fabs(gap - step) > LATTICE_TOL * step) {
+      // the opening must itself be a whole number of steps
+      const double steps = gap / step;
+      if (++opening > 1 || std::fabs(steps - std::round(steps)) > LATTICE_TOL * steps) even = false;
+    }
+  if (!even)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes polar: the {} atoms on the circle of radius {} are neither evenly "
+               "spaced round it nor one evenly spaced arc of it (at least 3 atoms); polar "
+               "volumes need each circle evenly filled, or cut into one arc by symmetry planes",
+               n, r);
+  return std::round(sites);
 }
 
 /* ----------------------------------------------------------------------

@@ -65,6 +65,7 @@ class SetSPHVolumes : public Command {
   void parse_keywords(int, int, char **);
   void lattice_weights(std::vector<double> &);
   void polar_weights(std::vector<double> &);
+  double arc_sites_per_circle(std::vector<double> &, double) const;
   void assign(const std::vector<double> &, const char *);
   static void mark_neighbours(int, char *, void *);
 };
