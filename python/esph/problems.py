@@ -21,6 +21,7 @@ BEAM_TLSPH = EXAMPLES / "beam" / "in.beam_tlsph"
 BEAM3D = EXAMPLES / "beam3d" / "in.beam3d"
 BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
+LAME = EXAMPLES / "lame" / "in.lame"
 
 
 @dataclass(frozen=True)

@@ -434,3 +434,24 @@ def clamp_corner_order(nu: float, plane: str) -> tuple[float, float]:
     ch. 8), whatever the scheme's own order."""
     lam = wedge_exponents(0.5 * math.pi, ("clamped", "free"), kolosov_kappa(nu, plane))[0]
     return lam, min(2.0, 2.0 * lam)
+
+
+def lame_cylinder(r: float, a: float, b: float, E: float, nu: float, plane: str,
+                  p_in: float = 0.0, p_out: float = 0.0) -> tuple[float, float, float]:
+    """(u_r, sigma_rr, sigma_tt) at radius r of a thick-walled cylinder a < r < b
+    under the pressures p_in inside and p_out outside, small strain (Lame):
+        sigma_rr = A - B/r^2,  sigma_tt = A + B/r^2,
+        A = (p_in a^2 - p_out b^2)/(b^2 - a^2),  B = (p_in - p_out) a^2 b^2/(b^2 - a^2),
+    and u_r = r eps_tt with eps_tt = (sigma_tt - nu sigma_rr)/E in plane stress
+    (a thin disk) and ((1 - nu) sigma_tt - nu sigma_rr)(1 + nu)/E in plane
+    strain (a long tube)."""
+    if plane not in ("stress", "strain"):
+        raise ValueError(f"plane must be 'stress' or 'strain', not {plane!r}")
+    A = (p_in * a * a - p_out * b * b) / (b * b - a * a)
+    B = (p_in - p_out) * a * a * b * b / (b * b - a * a)
+    srr, stt = A - B / (r * r), A + B / (r * r)
+    if plane == "stress":
+        eps_tt = (stt - nu * srr) / E
+    else:
+        eps_tt = (1.0 + nu) / E * ((1.0 - nu) * stt - nu * srr)
+    return r * eps_tt, srr, stt

@@ -344,6 +344,65 @@ def table6(full: bool, nprocs: int = 1, stress: str = "pk1", progress=print) -> 
     return [{"table": "6", "problem": "spheres3d", **r.row()} for r in results]
 
 
+# Table 7: particle layers through the wall of Lame's cylinder
+TABLE7_NW = {False: (10, 20), True: (10, 20, 40)}
+LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
+
+
+def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1) -> dict:
+    """examples/lame at nw layers: its wall time, atoms and the relative
+    errors of the radial displacement and hoop stress of the innermost and
+    outermost layers against Lame's solution at their radii."""
+    from .problems import LAME
+    from .runner import run_mpi, run_script
+    g = LAME_GEOMETRY
+    variables = {"nw": nw, "model": model, "plane": plane}
+    names = ["ur_in", "ur_out", "stt_in", "stt_out", "natoms_body"]
+    out = (run_script(LAME, variables, read=names) if nprocs == 1
+           else run_mpi(LAME, variables, nprocs))
+    dr = (g["b"] - g["a"]) / nw
+    row = {"nw": nw, "model": model, "plane": plane, "atoms": int(out.variables["natoms_body"]),
+           "wall": out.wall}
+    for side, r in (("in", g["a"] + 0.5 * dr), ("out", g["b"] - 0.5 * dr)):
+        ur, _, stt = theory.lame_cylinder(r, g["a"], g["b"], g["E"], g["nu"], plane, p_in=g["p"])
+        row[f"ur_{side}"] = out.variables[f"ur_{side}"] / ur - 1.0
+        row[f"stt_{side}"] = out.variables[f"stt_{side}"] / stt - 1.0
+    return row
+
+
+def table7(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
+    """Lame's thick-walled cylinder (examples/lame): a curved body, the
+    polar volumes of set_sph_volumes and a surface pressure of fix
+    sph/traction, whole and as a quarter between two symmetry planes,
+    against the exact small-strain solution."""
+    g = LAME_GEOMETRY
+    print(f"\nTable 7 (ICB, defaults): Lame's thick-walled cylinder, a = {g['a']:g}, b = {g['b']:g} m, "
+          f"nu = {g['nu']:g}, inner pressure p/E = {g['p'] / g['E']:g}; relative errors of the "
+          "layer means of u_r and sigma_tt at r = a + dr/2 and b - dr/2 against Lame's solution "
+          "there, q = observed order")
+    rows = []
+    cols = ["u_r(a+)", "u_r(b-)", "stt(a+)", "stt(b-)"]
+    head = f"{'plane':>6} {'model':>7} {'nw':>3} {'atoms':>6} | " + " | ".join(
+        f"{c:>9} {'q':>5}" for c in cols) + f" | {'wall[s]':>7}"
+    print_head(head)
+    for plane in ("strain", "stress"):
+        for model in ("full", "quarter"):
+            series = []
+            for nw in TABLE7_NW[full]:
+                progress(f"[esph] lame {model}, plane {plane}, {nw} layers ...")
+                series.append(lame_errors(nw, model, plane, nprocs))
+            dxs = [1.0 / r["nw"] for r in series]
+            orders = {k: order([r[k] for r in series], dxs)
+                      for k in ("ur_in", "ur_out", "stt_in", "stt_out")}
+            for j, r in enumerate(series):
+                print(f"{plane:>6} {model:>7} {r['nw']:3d} {r['atoms']:6d} | " + " | ".join(
+                    f"{100 * r[k]:+8.4f}% {orders[k][j]:5.2f}"
+                    for k in ("ur_in", "ur_out", "stt_in", "stt_out")) + f" | {r['wall']:7.2f}",
+                    flush=True)
+                rows.append({"table": "7", "problem": "lame", **r})
+    return rows
+
+
 def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: float = 0.002,
             beam_loads=theory.PAPER_BEAM_LOADS) -> list[Row]:
     plan = FULL if full else QUICK
@@ -389,6 +448,8 @@ def validate(out: Path, variants: list[str], full: bool, tables: str, dx: float,
         data += [asdict(r) for r in matrix.truss_table(dx, nprocs, 10.0, progress=progress)]
     if "6" in tables:
         data += table6(full, nprocs, stress, progress=progress)
+    if "7" in tables:
+        data += table7(full, nprocs, progress=progress)
     write_rows(out / "validate.json", data)
     if json_path:
         write_rows(Path(json_path), data)
