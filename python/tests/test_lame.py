@@ -34,3 +34,21 @@ def test_lame_cylinder_converges_to_the_exact_displacement(model):
         assert abs(coarse[key]) > 4.0 * abs(fine[key])        # order 2 or better
     # the hoop stress of the outer layer, away from the loaded surface
     assert abs(fine["stt_out"]) < 3e-3
+
+
+def test_a_force_tolerance_below_round_off_ends_at_the_floor(tmp_path):
+    """At p/E = 1e-7 the strains are 2e-7, and a force tolerance of 1e-12 of
+    the load lies below what double precision resolves.  Newton's steps there
+    promise energy decreases below round-off, which noise used to pass: the
+    quarter ring ran to its 100 iterations and was reported as 'NOT an
+    equilibrium'.  The force norm judges such steps now: a few iterations and
+    a round-off warning."""
+    from esph.problems import LAME
+    from esph.runner import run_script
+    log = tmp_path / "log.lammps"
+    out = run_script(LAME, {"nw": 10, "model": "quarter", "p": 2000.0, "ftol": 1e-12},
+                     read=["ur_in"], log=log)
+    text = log.read_text()
+    assert "is at its round-off floor" in text
+    assert "NOT an equilibrium" not in text
+    assert out.steps < 20
