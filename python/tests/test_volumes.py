@@ -386,3 +386,27 @@ def test_bad_input_is_a_clear_error(before, command, words):
     with pytest.raises(Exception, match=words):
         lmp.command(command)
     lmp.close()
+
+
+@pytest.mark.parametrize("nz", [4, 5])
+def test_a_periodic_length_below_two_kernel_supports_is_an_error(nz):
+    """Across a periodic length under two supports (4.8 spacings at h =
+    1.2 dx) an atom is its neighbours' partner through two images, of which
+    the partner list keeps one: the stress-free tube of 4 planes had
+    reference forces of 1e5 N, silently one-sided.  Refused; 5 planes are
+    stress-free."""
+    lmp = tube_body(3, 0.012, nz, periodic=True)
+    lmp.commands_string(f"""
+        set_sph_volumes all polar {DX} 0.004 -0.003 density 1000
+        pair_style sph/icb {1.2 * DX}
+        pair_coeff * * 1e9 0.3
+        neighbor {0.5 * DX} bin
+    """)
+    if nz == 4:
+        with pytest.raises(Exception, match="shorter than twice the SPH kernel support"):
+            lmp.command("run 0")
+    else:
+        lmp.command("run 0")
+        f = np.array(lmp.numpy.extract_atom("f")[:lmp.get_natoms()])
+        assert np.abs(f).max() < 1e-6 * 1e9 * DX * DX
+    lmp.close()

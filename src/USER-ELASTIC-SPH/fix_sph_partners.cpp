@@ -408,6 +408,26 @@ void FixSPHPartners::check_stretch(const Stretched &stretched)
 }
 
 /* ----------------------------------------------------------------------
+   a partner is one atom seen at one offset: across a periodic length
+   shorter than two supports an atom would be a partner through two images
+   (at d and L - d), and keeping one of them makes the stencil one-sided
+   (a stress-free reference gave forces of the order of E dx^2)
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::check_periodic_length() const
+{
+  const double support = kernel.support();
+  const double prd[3] = {domain->xprd, domain->yprd, domain->zprd};
+  for (int a = 0; a < domain->dimension; a++)
+    if (domain->periodicity[a] && prd[a] < 2.0 * support)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "The periodic box length {} in {} is shorter than twice the SPH kernel support "
+                 "{}: an atom would be its neighbours' partner through two periodic images.  "
+                 "Make the periodic length at least {} (or the smoothing length smaller)",
+                 prd[a], "xyz"[a], support, 2.0 * support);
+}
+
+/* ----------------------------------------------------------------------
    partners of owned atom i: atoms of the same body whose reference
    distance is below the kernel support, sorted by atom ID so that sums
    run in the same order on any number of processors
@@ -422,6 +442,7 @@ void FixSPHPartners::collect_partners()
   const int nlocal = atom->nlocal;
   const double cutsq = kernel.support() * kernel.support();
   const double coincident_sq = COINCIDENT * COINCIDENT * kernel.h * kernel.h;
+  check_periodic_length();
 
   std::vector<std::vector<tagint>> found(nlocal);
   int mymax = 0;

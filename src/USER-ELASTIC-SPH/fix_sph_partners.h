@@ -112,6 +112,7 @@ class FixSPHPartners : public Fix {
   void check_volumes_tile_the_body();
   void explain_singular_fit(int i);
   void set_maxexchange();
+  void check_periodic_length() const;
   void collect_partners();
   // the reference partners whose distance grew most since the reference
   struct Stretched {
