@@ -214,6 +214,14 @@ def ring_body(nlayer, r_in, centre=(0.01, -0.02)):
         region box block -0.1 0.1 -0.1 0.1 -0.001 0.001 units box
         create_box 1 box
     """)
+    layers = create_circles(lmp, nlayer, r_in, centre, 0.0)
+    return lmp, layers
+
+
+def create_circles(lmp, nlayer, r_in, centre, z):
+    """Circles r_k = r_in + (k + 1/2) DX about centre in the plane z, n_k =
+    round(2 pi r_k / DX) atoms each, one body, unit volumes and masses;
+    returns [(r_k, n_k)]."""
     layers = []
     for k in range(nlayer):
         r = r_in + (k + 0.5) * DX
@@ -222,13 +230,13 @@ def ring_body(nlayer, r_in, centre=(0.01, -0.02)):
         for m in range(n):
             th = 2 * math.pi * (m + 0.3) / n
             lmp.command(f"create_atoms 1 single {centre[0] + r * math.cos(th)} "
-                        f"{centre[1] + r * math.sin(th)} 0.0 units box")
+                        f"{centre[1] + r * math.sin(th)} {z} units box")
     lmp.commands_string("""
         set group all mol 1
         set group all volume 1.0
         set group all mass 1.0
     """)
-    return lmp, layers
+    return layers
 
 
 @pytest.mark.parametrize("nlayer", [3, 5, 10])
@@ -308,18 +316,7 @@ def tube_body(nlayer, r_in, nz, periodic=False, centre=(0.004, -0.003)):
         create_box 1 box
     """)
     for m in range(nz):
-        for k in range(nlayer):
-            r = r_in + (k + 0.5) * DX
-            n = round(2 * math.pi * r / DX)
-            for j in range(n):
-                th = 2 * math.pi * (j + 0.3) / n
-                lmp.command(f"create_atoms 1 single {centre[0] + r * math.cos(th)} "
-                            f"{centre[1] + r * math.sin(th)} {(m + 0.5) * DX} units box")
-    lmp.commands_string("""
-        set group all mol 1
-        set group all volume 1.0
-        set group all mass 1.0
-    """)
+        create_circles(lmp, nlayer, r_in, centre, (m + 0.5) * DX)
     return lmp
 
 
