@@ -87,12 +87,12 @@ variable u equal -1e-7
 fix clamp mirror sph/mirror x 0.003 displace v_u 0.0 slip yes
 region pin block 0.004 0.005 0.002 0.003 INF INF units box
 group pin region pin
-fix hold pin setforce NULL 0.0 NULL
 variable ty equal -1e5
 fix load all sph/traction x 0.008 traction 0.0 v_ty
 fix_modify load energy yes
 fix press all sph/traction surface pressure 1e4
 fix_modify press energy yes
+fix hold pin setforce NULL 0.0 NULL
 min_style sph/newton
 minimize 0.0 1e-14 30 300
 """

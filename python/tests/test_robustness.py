@@ -76,7 +76,9 @@ fix hold left setforce 0 0 0
 
 @pytest.mark.parametrize("pair,integrator,dtfac,message", [
     ("sph/ccb", "fix i all sph/ccb/nve", 3.0, "is inverted (density"),
-    ("sph/icb", "fix i all nve", 3.0, "is inverted (det F"),
+    # the total-Lagrangian body flies apart before a particle inverts: caught
+    # at the next neighbour list, before LAMMPS bins the box
+    ("sph/icb", "fix i all nve", 3.0, "kernel supports): the run blew up"),
 ])
 @pytest.mark.slow
 def test_blow_up_stops_with_the_stable_step(tmp_path, pair, integrator, dtfac, message):

@@ -18,6 +18,7 @@
 #include "atom_vec_sph_elastic.h"
 
 #include "atom.h"
+#include "domain.h"
 #include "error.h"
 
 #include <cstring>
@@ -118,6 +119,17 @@ void AtomVecSPHElastic::create_atom_post(int ilocal)
   vfrac[ilocal] = 1.0;
   rmass[ilocal] = 1.0;
   rho[ilocal] = 0.0;
+  record_reference_box();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::record_reference_box()
+{
+  reference_prd[0] = domain->xprd;
+  reference_prd[1] = domain->yprd;
+  reference_prd[2] = domain->zprd;
+  reference_box_set = true;
 }
 
 /* ----------------------------------------------------------------------
@@ -137,6 +149,7 @@ void AtomVecSPHElastic::data_atom_post(int ilocal)
                rmass[ilocal], atom->tag[ilocal]);
   rho[ilocal] = rmass[ilocal] / vfrac[ilocal];
   drho[ilocal] = 0.0;
+  record_reference_box();
   for (int k = 0; k < NSYMM; k++) tau[ilocal][k] = 0.0;
 }
 

@@ -35,7 +35,17 @@ class AtomVecSPHElastic : public AtomVec {
   int property_atom(const std::string &) override;
   void pack_property_atom(int, double *, int, int) override;
 
+  // the box lengths when reference positions were last set from the
+  // positions or a data file (create_atoms, read_data,
+  // reset_sph_reference): a periodic body's reference distances across the
+  // boundary hold in that box only.  Not in restart files.
+  void record_reference_box();
+  bool reference_box_known() const { return reference_box_set; }
+  double reference_length(int a) const { return reference_prd[a]; }
+
  private:
+  double reference_prd[3] = {0.0, 0.0, 0.0};
+  bool reference_box_set = false;
   double **x0;
   double *vfrac, *rmass, *rho, *drho;
   double **tau;    // deviatoric stress (xx yy zz xy xz yz), stored in atom->smd_stress

@@ -31,6 +31,7 @@
 #include "neighbor.h"
 #include "pair.h"
 #include "respa.h"
+#include "sph_fix_rules.h"
 #include "update.h"
 
 #include <algorithm>
@@ -219,8 +220,20 @@ void FixSPHContact::check_reach()
                contact_dx, ghost_cut, reach);
 }
 
+void FixSPHContact::check_holds_after()
+{
+  const int *mask = atom->mask;
+  SPHElastic::require_holds_after(
+      lmp, this,
+      [&](int i) {
+        return (mask[i] & groupbit) != 0;
+      },
+      "may add contact forces to");
+}
+
 void FixSPHContact::setup(int vflag)
 {
+  check_holds_after();
   if (utils::strmatch(update->integrate_style, "^verlet"))
     post_force(vflag);
   else {
@@ -233,6 +246,7 @@ void FixSPHContact::setup(int vflag)
 
 void FixSPHContact::min_setup(int vflag)
 {
+  check_holds_after();
   post_force(vflag);
 }
 

@@ -61,6 +61,7 @@ class FixSPHContact : public Fix {
   int reduced;
 
   int count_bodies();
+  void check_holds_after();
   void check_reach();
   void set_stiffness();
   void reduce();

@@ -38,6 +38,7 @@
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
+#include "sph_fix_rules.h"
 #include "update.h"
 
 #include <algorithm>
@@ -45,6 +46,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <unordered_set>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -173,6 +175,13 @@ void FixSPHMirror::init()
                "Fix sph/mirror requires pair_style sph/icb; to clamp a body integrated by "
                "another pair style, hold the clamp atoms with fix setforce");
   pair->add_mirror_group(groupbit);
+  // a second fix on the same group would hand each mirror's force over twice
+  for (auto *other : modify->get_fix_by_style("^sph/mirror$"))
+    if (other != this && other->igroup == igroup)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/mirror and fix {} sph/mirror both mirror group {}: one clamp is one "
+                 "fix; unfix one of them",
+                 id, other->id, group->names[igroup]);
   // across a periodic boundary the body would meet its own image, not a plane
   if (domain->periodicity[axis])
     error->all(FLERR, Error::NOLASTLINE,
@@ -199,6 +208,51 @@ void FixSPHMirror::setup_pre_force(int /*vflag*/)
     pair_up();
   disp.evaluate(lmp);
   place_mirrors(disp.value);
+  check_other_fixes();
+}
+
+/* ----------------------------------------------------------------------
+   the hand-over moves forces onto the sources after the fixes before
+   this one acted: a hold defined earlier would not hold them.  A load of
+   another fix on a mirror atom is not a load on the body: the mirror
+   atom is an image, and its force goes to its source with the mirror's
+   sign (or is lost, for a fix after this one).
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::check_other_fixes()
+{
+  std::unordered_set<tagint> sources;
+  for (const auto &link : source) sources.insert(link.second);
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  SPHElastic::require_holds_after(
+      lmp, this,
+      [&](int i) {
+        return (mask[i] & groupbit) || sources.count(tag[i]);
+      },
+      "hands the mirror atoms' forces to their sources, among them");
+
+  const int acts = update->whichflag == 2 ? MIN_POST_FORCE : POST_FORCE;
+  for (int k = 0; k < modify->nfix; k++) {
+    const Fix *fix = modify->fix[k];
+    if (fix == this || SPHElastic::is_package_fix(fix) || !(modify->fmask[k] & acts) ||
+        utils::strmatch(fix->style, "^setforce") || utils::strmatch(fix->style, "^enforce2d") ||
+        utils::strmatch(fix->style, "^viscous"))    // mirror atoms do not move: no drag
+      continue;
+    bigint mine = 0, all = 0;
+    for (int i = 0; i < atom->nlocal; i++)
+      if ((mask[i] & groupbit) && (mask[i] & fix->groupbit)) mine++;
+    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (all > 0 && comm->me == 0)
+      error->warning(FLERR,
+                     "Fix {} ({}) acts on the {} mirror atoms of fix {} sph/mirror (group {}): "
+                     "they are images of the body's atoms, not part of it, so that force is not "
+                     "a load on the body (it goes to their sources with the mirror's sign, or is "
+                     "lost); leave group {} out of fix {}'s group, e.g. 'group body subtract all "
+                     "{}'",
+                     fix->id, fix->style, all, id, group->names[igroup], group->names[igroup],
+                     fix->id, group->names[igroup]);
+  }
 }
 
 /* ----------------------------------------------------------------------

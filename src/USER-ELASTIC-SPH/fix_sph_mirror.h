@@ -89,6 +89,7 @@ class FixSPHMirror : public Fix {
   void place_mirrors(const double *u0);
   void build_partners_undisplaced(class FixSPHPartners *);
   void hand_over_forces();
+  void check_other_fixes();
 };
 
 }    // namespace LAMMPS_NS

@@ -18,6 +18,7 @@
 #include "fix_sph_partners.h"
 
 #include "atom.h"
+#include "atom_vec_sph_elastic.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -28,6 +29,7 @@
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
 #include "sph_elastic_mpi.h"
+#include "sph_fix_rules.h"
 #include "update.h"
 
 #include <Eigen/Dense>
@@ -52,6 +54,13 @@ static constexpr double COINCIDENT = 1.0e-6;
 // reference partners whose distance grew by more than this fraction of the
 // neighbor skin when they are built may have lost partners beyond the skin
 static constexpr double STRETCH_SKIN_FRACTION = 0.5;
+// reference partners this many kernel supports apart: no elastic body
+// stretches so far (the failure indicator stops at one support)
+static constexpr double BLOWUP_SUPPORTS = 10.0;
+// particles of two bodies closer than this fraction of their own spacing overlap
+static constexpr double OVERLAP_FRACTION = 0.75;
+// a periodic length this much changed is another box
+static constexpr double REFERENCE_BOX_TOL = 1.0e-10;
 
 /* ---------------------------------------------------------------------- */
 
@@ -102,7 +111,53 @@ FixSPHPartners::~FixSPHPartners()
 
 int FixSPHPartners::setmask()
 {
-  return PRE_FORCE | MIN_PRE_FORCE | POST_RUN;
+  return PRE_EXCHANGE | PRE_FORCE | MIN_PRE_FORCE | POST_RUN;
+}
+
+/* ----------------------------------------------------------------------
+   a run that blew up moves atoms so far in a step that a shrink-wrapped
+   box grows to kilometres and LAMMPS stops on "Too many neighbor bins"
+   (after minutes of binning), far from the cause.  Before the atoms are
+   exchanged and binned, reference partners stretched to many kernel
+   supports, or a non-finite position, stop the run with the pair
+   style's advice.  Ghost positions are one step old here, which a
+   blow-up does not notice.  Dynamics only: a minimiser's line search may
+   try steps of dmax (0.1 distance units by default) that it then rejects.
+------------------------------------------------------------------------- */
+
+void FixSPHPartners::pre_exchange()
+{
+  if (first) return;
+  double **x = atom->x;
+  const double limit = BLOWUP_SUPPORTS * kernel.support();
+  for (int i = 0; i < atom->nlocal; i++) {
+    bool finite = true;
+    for (int a = 0; a < 3; a++) finite = finite && std::isfinite(x[i][a]);
+    int worst = -1;
+    double longest = 0.0;
+    for (int k = 0; finite && k < npartner[i]; k++) {
+      const int j = find_partner(i, k);
+      if (j < 0) continue;
+      const double d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+      const double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (r > longest) {
+        longest = r;
+        worst = k;
+      }
+    }
+    if (finite && longest <= limit) continue;
+    auto *pair = dynamic_cast<PairSPHElastic *>(force->pair);
+    const std::string advice = pair ? pair->instability_advice() : std::string();
+    if (!finite)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Atom {} has a non-finite position at step {}: the run blew up: {}", atom->tag[i],
+                 update->ntimestep, advice);
+    error->one(FLERR, Error::NOLASTLINE,
+               "Atoms {} and {}, reference partners {:.6g} apart, are {:.6g} apart at step {} "
+               "(more than {} kernel supports): the run blew up: {}",
+               atom->tag[i], partner[i][worst], pdata[i][worst * NPDATA + R0], longest,
+               update->ntimestep, BLOWUP_SUPPORTS, advice);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -122,6 +177,11 @@ void FixSPHPartners::post_run()
 void FixSPHPartners::init()
 {
   if (first) neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
+  // the fixes of a run or minimize (not of write_data's or similar inits)
+  if (update->whichflag != 0) {
+    SPHElastic::refuse_dynamics_only_fixes(lmp);
+    SPHElastic::warn_fix_combinations(lmp);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -185,15 +245,21 @@ void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
 }
 
 /* ----------------------------------------------------------------------
-   called before the first force computation of both run and minimize
+   called before the first force computation of both run and minimize.
+   With fix sph/mirror the first build waits for the mirror fixes, which
+   place their atoms and copy their sources' volumes before they build the
+   partners (FixSPHMirror::build_partners_undisplaced): this fix comes
+   before them in the list whenever the pair style was initialised before
+   they were defined (write_data, write_restart, an earlier run 0 of
+   another setup), and building here would take the mirrors as they were.
 ------------------------------------------------------------------------- */
 
 void FixSPHPartners::setup_pre_force(int /*vflag*/)
 {
-  if (first)
-    build();
-  else
+  if (!first)
     check_reference_unchanged();
+  else if (modify->get_fix_by_style("^sph/mirror$").empty())
+    build();
 }
 
 /* ----------------------------------------------------------------------
@@ -425,6 +491,31 @@ void FixSPHPartners::check_periodic_length() const
                  "{}: an atom would be its neighbours' partner through two periodic images.  "
                  "Make the periodic length at least {} (or the smoothing length smaller)",
                  prd[a], "xyz"[a], support, 2.0 * support);
+
+  // change_box ... remap moves the atoms with a new periodic length but
+  // keeps their reference positions, whose distances across the boundary
+  // then hold in the old box only
+  const auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->avec);
+  if (!avec || !avec->reference_box_known()) return;
+  double moved = 0.0, moved_all = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    double unwrap[3];
+    domain->unmap(atom->x[i], atom->image[i], unwrap);
+    for (int a = 0; a < 3; a++) moved = std::max(moved, std::fabs(unwrap[a] - atom->x0[i][a]));
+  }
+  MPI_Allreduce(&moved, &moved_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  for (int a = 0; a < domain->dimension; a++) {
+    const double old_length = avec->reference_length(a);
+    if (domain->periodicity[a] && moved_all > 0.0 &&
+        std::fabs(prd[a] - old_length) > REFERENCE_BOX_TOL * old_length)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "The periodic box length in {} is {} but was {} when the reference positions "
+                 "were set, and the atoms have moved since (change_box ... remap): across the "
+                 "periodic boundary the reference distances would be wrong. Create the atoms in "
+                 "the final box, strain it after the first run (fix deform), or make the moved "
+                 "body the stress-free reference with 'reset_sph_reference all'",
+                 "xyz"[a], prd[a], old_length);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -447,12 +538,24 @@ void FixSPHPartners::collect_partners()
   std::vector<std::vector<tagint>> found(nlocal);
   int mymax = 0;
   Stretched stretched;
+  Overlap overlap;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
+    double nearest_own = INFINITY, nearest_other = INFINITY;
+    tagint other = 0;
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      if (molecule[j] != molecule[i] || tag[j] == tag[i]) continue;
+      if (molecule[j] != molecule[i]) {
+        const double d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+        const double rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        if (rsq < nearest_other) {
+          nearest_other = rsq;
+          other = tag[j];
+        }
+        continue;
+      }
+      if (tag[j] == tag[i]) continue;
       double del[3] = {x0[j][0] - x0[i][0], x0[j][1] - x0[i][1], x0[j][2] - x0[i][2]};
       domain->minimum_image(del[0], del[1], del[2]);
       const double rsq = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
@@ -465,6 +568,16 @@ void FixSPHPartners::collect_partners()
         found[i].push_back(tag[j]);
         stretched.record(x[i], x[j], std::sqrt(rsq), tag[i], tag[j], domain);
       }
+      nearest_own = std::min(nearest_own, rsq);
+    }
+    // another body's particle nearer than 3/4 of this body's spacing: the
+    // bodies were created inside each other
+    if (nearest_other < OVERLAP_FRACTION * OVERLAP_FRACTION * nearest_own) {
+      overlap.count++;
+      if (!overlap.tags[0]) {
+        overlap.tags[0] = tag[i];
+        overlap.tags[1] = other;
+      }
     }
     // several periodic images of one atom may be neighbours: keep one
     std::sort(found[i].begin(), found[i].end());
@@ -473,6 +586,7 @@ void FixSPHPartners::collect_partners()
   }
 
   check_stretch(stretched);
+  warn_overlap(overlap);
   MPI_Allreduce(&mymax, &maxpartner, 1, MPI_INT, MPI_MAX, world);
   maxpartner = std::max(maxpartner, 1);
   set_maxexchange();
@@ -485,6 +599,25 @@ void FixSPHPartners::collect_partners()
     npartner[i] = found[i].size();
     std::copy(found[i].begin(), found[i].end(), partner[i]);
   }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::warn_overlap(const Overlap &overlap) const
+{
+  bigint count = 0;
+  MPI_Allreduce(&overlap.count, &count, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (count == 0) return;
+  tagint tags[2] = {overlap.tags[0], overlap.tags[1]};
+  const auto holder = SPHElastic::rank_max(overlap.count > 0 ? 1.0 : 0.0, world);
+  MPI_Bcast(tags, 2, MPI_LMP_TAGINT, holder.rank, world);
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "{} particles have a particle of another body (molecule ID) nearer than 3/4 of "
+                   "their own body's spacing, e.g. atoms {} and {}: the bodies were created inside "
+                   "each other; separate them (contact acts between bodies about one spacing "
+                   "apart)",
+                   count, tags[0], tags[1]);
 }
 
 /* ----------------------------------------------------------------------

@@ -48,6 +48,7 @@ class FixSPHPartners : public Fix {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup_pre_force(int) override;
+  void pre_exchange() override;
 
   double memory_usage() override;
   void grow_arrays(int) override;
@@ -122,6 +123,12 @@ class FixSPHPartners : public Fix {
                 class Domain *domain);
   };
   void check_stretch(const Stretched &);
+  // particles nearer to another body than to their own
+  struct Overlap {
+    bigint count = 0;
+    tagint tags[2] = {0, 0};
+  };
+  void warn_overlap(const Overlap &) const;
   void compute_corrections();
   void measure_amplification();
 

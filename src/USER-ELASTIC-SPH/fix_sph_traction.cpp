@@ -41,6 +41,7 @@
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
+#include "sph_fix_rules.h"
 #include "update.h"
 
 #include <cmath>
@@ -185,6 +186,13 @@ void FixSPHTraction::init()
                "has no surface there; make that boundary non-periodic (boundary s or f)",
                id, "xyz"[axis]);
   values.resolve(lmp, fmt::format("fix {} sph/traction", id));
+  // the potential is what makes a minimiser see the load: without it the
+  // line search compares energies that leave the load out
+  if (update->whichflag == 2 && !thermo_energy)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/traction under minimize needs the load's potential energy: add "
+               "'fix_modify {} energy yes'",
+               id, id);
   support = pair->get_kernel().support();
 }
 
@@ -194,6 +202,13 @@ void FixSPHTraction::setup(int vflag)
 {
   find_side();
   build_coefficients();
+  const tagint *tag = atom->tag;
+  SPHElastic::require_holds_after(
+      lmp, this,
+      [&](int i) {
+        return coefficient.count(tag[i]) > 0;
+      },
+      "loads");
   post_force(vflag);
 }
 
@@ -256,6 +271,18 @@ void FixSPHTraction::find_side()
                "more than a smoothing length; put the face half a particle spacing beyond the "
                "body's outermost layer",
                id, "xyz"[axis], plane, gap, group -> names[igroup]);
+  // a mirror plane is no free surface: the mirror atoms there carry the
+  // reaction, and half the load went back into the clamp (measured)
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    if (mirror->plane_axis() == axis && std::fabs(mirror->plane_position() - plane) <= 0.5 * gap)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/traction: the face {} = {} is the plane of fix {} sph/mirror, which "
+                 "is not a free surface (the mirror carries the reaction there, and the body "
+                 "would take only part of the load); load a free face, or move the plane with "
+                 "'fix {} ... sph/mirror ... displace'",
+                 id, "xyz"[axis], plane, mirror -> id, mirror -> id);
+  }
   const double farthest = opposite_side(side_all[0] ? -extent_all[1] : extent_all[0], shallow);
   far_side = std::fabs(plane - farthest);
   far_is_mirror = opposite_is_mirror(farthest);

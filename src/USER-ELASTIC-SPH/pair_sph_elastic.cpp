@@ -27,6 +27,7 @@
 #include "modify.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -359,7 +360,8 @@ void PairSPHElastic::check_material()
     tagint id = ids[k];
     MPI_Bcast(&id, 1, MPI_LMP_TAGINT, all.rank, world);
     const double rho0 = (k == 0) ? all.value : -all.value;
-    if (id && (rho0 < RHO_MIN || rho0 > RHO_MAX) && comm->me == 0)
+    // inclusive: create_atoms' m = V0 = 1 is a density of exactly 1
+    if (id && (rho0 <= RHO_MIN || rho0 > RHO_MAX) && comm->me == 0)
       error->warning(FLERR,
                      "Pair style {}: atom {} has a reference density m/V = {:.3g} kg/m^3, outside "
                      "the {:.0g}-{:.0g} kg/m^3 of solids: is its mass set ('set group all mass "
@@ -402,8 +404,21 @@ void PairSPHElastic::report_stable_dt()
   if (dynamics && update->dt > limit)
     error->warning(FLERR,
                    "Pair style {}: timestep {:.6g} exceeds the stable limit of about {:.2g} h/c = "
-                   "{:.6g}: the run will blow up; use 'timestep {:.3g}' (0.25 h/c) or less",
-                   style_name(), update->dt, stable_fraction(), limit, 0.25 * dt_unit);
+                   "{:.6g}: the run will blow up; use 'timestep {:.3g}' ({:.2g} h/c) or less",
+                   style_name(), update->dt, stable_fraction(), limit, advised_dt(),
+                   advised_dt() / dt_unit);
+}
+
+/* ----------------------------------------------------------------------
+   the timestep to advise: a quarter of h/c, or less where the stable limit
+   itself is lower (hourglass springs, quadratic gradient in 3d), with the
+   same margin below it
+------------------------------------------------------------------------- */
+
+double PairSPHElastic::advised_dt() const
+{
+  constexpr double QUARTER = 0.25, MARGIN = 0.5;
+  return std::min(QUARTER, MARGIN * stable_fraction()) * dt_unit;
 }
 
 /* ----------------------------------------------------------------------
@@ -419,7 +434,7 @@ std::string PairSPHElastic::instability_advice() const
     return fmt::format(
         "the timestep {:.6g} is {:.3g} h/c, above the stable limit of about {:.2g} h/c "
         "(h/c = {:.6g}): reduce it, e.g. 'timestep {:.3g}'",
-        update->dt, ratio, stable_fraction(), dt_unit, 0.25 * dt_unit);
+        update->dt, ratio, stable_fraction(), dt_unit, advised_dt());
   tagint amplified = 0;
   const double amplification = partners ? partners->gradient_amplification(amplified) : 0.0;
   if (amplification > FixSPHPartners::AMPLIFICATION_WARN)

@@ -67,6 +67,9 @@ class PairSPHElastic : public Pair {
   virtual const int *partner_indices(int) const { return nullptr; }
   // called by the partners fix at the end of every minimisation
   virtual void check_minimized_state() {}
+  // what to tell a user whose run failed at this step: the timestep against
+  // the stable estimate
+  std::string instability_advice() const;
 
  protected:
   double h;
@@ -95,9 +98,8 @@ class PairSPHElastic : public Pair {
   virtual bool needs_own_state() const { return false; }
   // the largest timestep in units of h/c that is stable in practice
   virtual double stable_fraction() const = 0;
-  // what to tell a user whose run failed at this step: the timestep against
-  // the stable estimate
-  std::string instability_advice() const;
+  // the timestep the messages advise, safely below that limit
+  double advised_dt() const;
   void check_units();
   void check_coefficients();
   void set_material(int t, const std::string &law, double e, double nu);

@@ -18,6 +18,7 @@
 #include "reset_sph_reference.h"
 
 #include "atom.h"
+#include "atom_vec_sph_elastic.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -59,6 +60,8 @@ void ResetSPHReference::command(int narg, char **arg)
       nmine++;
     }
   MPI_Allreduce(&nmine, &nall, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->avec);
+  if (avec) avec->record_reference_box();
   if (comm->me == 0)
     utils::logmesg(lmp, "Reset the reference positions of {} atoms in group {}\n", nall, arg[0]);
 }

@@ -102,7 +102,7 @@ void SetSPHVolumes::command(int narg, char **arg)
   if (narg < 3) utils::missing_cmd_args(FLERR, "set_sph_volumes", error);
   if (!atom->x0_flag || !atom->vfrac_flag || !atom->rmass_flag)
     error->all(FLERR, "Set_sph_volumes requires atom_style sph/elastic");
-  const int igroup = group->find(arg[0]);
+  igroup = group->find(arg[0]);
   if (igroup < 0) error->all(FLERR, "Could not find set_sph_volumes group ID {}", arg[0]);
   groupbit = group->bitmask[igroup];
   dim = domain->dimension;
@@ -243,6 +243,8 @@ void SetSPHVolumes::lattice_weights(std::vector<double> &volume)
   comm->ring((int) sites.size(), sizeof(Site), sites.data(), 0, mark_neighbours, nullptr,
              (void *) this);
 
+  check_spacing_matches();
+
   const double base = (dim == 2) ? spacing * spacing * thickness : spacing * spacing * spacing;
   bigint nthin[3] = {0, 0, 0}, nthin_all[3];
   for (int i = 0; i < nlocal; i++) {
@@ -266,6 +268,39 @@ void SetSPHVolumes::lattice_weights(std::vector<double> &volume)
                      "(use at least 3 particles across every part of the body)",
                      nthin_all[a], "xyz"[a], "xyz"[a]);
   local_site.clear();
+}
+
+/* ----------------------------------------------------------------------
+   every atom sits on a lattice whose spacing divides the atoms' own, so
+   half the spacing passes the lattice test; but then no atom has a
+   neighbour one site away, and every volume would be too small by
+   2^dim with each atom taken for a one-particle-thick body
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::check_spacing_matches()
+{
+  // per axis: atoms with a neighbour 1, 2 or 3 sites away
+  bigint found[3] = {0, 0, 0}, found_all[3];
+  bigint natoms = 0, natoms_all;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    natoms++;
+    for (int offset = 1; offset <= 3; offset++)
+      for (int a = 0; a < dim; a++)
+        for (int side = 0; side < 2; side++)
+          if (present[i] & present_bit(a, side, offset)) found[offset - 1]++;
+  }
+  MPI_Allreduce(found, found_all, 3, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Allreduce(&natoms, &natoms_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (natoms_all < 2 || found_all[0] > 0) return;
+  const std::string apart = found_all[1] ? fmt::format("{:.6g}", 2.0 * spacing)
+      : found_all[2]                     ? fmt::format("{:.6g}", 3.0 * spacing)
+                                         : fmt::format("more than {:.6g}", 3.0 * spacing);
+  error->all(FLERR, Error::NOLASTLINE,
+             "Set_sph_volumes lattice: spacing {} does not match the atoms of group {}: no two of "
+             "them are neighbours on this lattice (the nearest are {} apart), so every volume "
+             "would be too small; give the spacing the atoms were created with",
+             spacing, group->names[igroup], apart);
 }
 
 /* ----------------------------------------------------------------------
@@ -516,9 +551,11 @@ void SetSPHVolumes::assign(const std::vector<double> &volume, const char *groupn
   const int *mask = atom->mask;
   double *vfrac = atom->vfrac;
   double *rmass = atom->rmass;
-  double sums[2] = {0.0, 0.0}, sums_all[2];
+  // create_atoms leaves V0 = m = 1: keeping m/V then keeps a density of 1
+  double sums[3] = {0.0, 0.0, 0.0}, sums_all[3];
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
+    if (density <= 0.0 && vfrac[i] == 1.0 && rmass[i] == 1.0) sums[2] += 1.0;
     if (density > 0.0)
       rmass[i] = density * volume[i];
     else if (vfrac[i] > 0.0)
@@ -532,9 +569,15 @@ void SetSPHVolumes::assign(const std::vector<double> &volume, const char *groupn
     sums[0] += 1.0;
     sums[1] += volume[i];
   }
-  MPI_Allreduce(sums, sums_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(sums, sums_all, 3, MPI_DOUBLE, MPI_SUM, world);
   if (sums_all[0] == 0.0)
     error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes: group {} has no atoms", groupname);
+  if (sums_all[2] > 0.0 && comm->me == 0)
+    error->warning(FLERR,
+                   "Set_sph_volumes: {} atoms of group {} had create_atoms' volume 1 and mass 1, "
+                   "so keeping their m/V gives them a density of 1 mass/volume unit; give "
+                   "'density <rho0>'",
+                   (bigint) sums_all[2], groupname);
   if (comm->me == 0)
     utils::logmesg(lmp, "Set the volumes of {} atoms in group {} ({}): total volume {:.10g}\n",
                    (bigint) sums_all[0], groupname, correct ? "surface-corrected" : "plain cells",

@@ -47,6 +47,7 @@ class SetSPHVolumes : public Command {
   };
 
  private:
+  int igroup;
   int groupbit;
   int dim;
   double spacing;      // lattice spacing (lattice) or layer spacing (polar)
@@ -64,6 +65,7 @@ class SetSPHVolumes : public Command {
 
   void parse_keywords(int, int, char **);
   void lattice_weights(std::vector<double> &);
+  void check_spacing_matches();
   void polar_weights(std::vector<double> &);
   long long polar_index(double, tagint, const char *, double) const;
   std::vector<double> sites_per_circle(const std::vector<double> &, const std::vector<double> &,
