@@ -19,7 +19,8 @@ from test_errors import BASE, ICB
 
 LOAD = -250.0
 COARSE = {"Fy": LOAD, "dx": 0.004, "stress": "pk1", "route": "min", "thermo_every": 1}
-THERMO = re.compile(r"^\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)\s*$", re.M)
+# step pe ke fnorm, then the example's own columns
+THERMO = re.compile(r"^\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)(?:[ \t]+\S+)+[ \t]*$", re.M)
 
 
 def force_norms(log: str) -> list[float]:
