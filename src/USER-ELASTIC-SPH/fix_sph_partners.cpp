@@ -495,8 +495,15 @@ void FixSPHPartners::check_periodic_length() const
   // change_box ... remap moves the atoms with a new periodic length but
   // keeps their reference positions, whose distances across the boundary
   // then hold in the old box only
+  // a rank that created or read no atom has no record: take any rank's
   const auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->avec);
-  if (!avec || !avec->reference_box_known()) return;
+  double recorded[4] = {0.0, 0.0, 0.0, 0.0}, reference[4];
+  if (avec && avec->reference_box_known()) {
+    for (int a = 0; a < 3; a++) recorded[a] = avec->reference_length(a);
+    recorded[3] = 1.0;
+  }
+  MPI_Allreduce(recorded, reference, 4, MPI_DOUBLE, MPI_MAX, world);
+  if (reference[3] == 0.0) return;
   double moved = 0.0, moved_all = 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
     double unwrap[3];
@@ -505,7 +512,7 @@ void FixSPHPartners::check_periodic_length() const
   }
   MPI_Allreduce(&moved, &moved_all, 1, MPI_DOUBLE, MPI_MAX, world);
   for (int a = 0; a < domain->dimension; a++) {
-    const double old_length = avec->reference_length(a);
+    const double old_length = reference[a];
     if (domain->periodicity[a] && moved_all > 0.0 &&
         std::fabs(prd[a] - old_length) > REFERENCE_BOX_TOL * old_length)
       error->all(FLERR, Error::NOLASTLINE,
