@@ -403,6 +403,61 @@ def table7(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
     return rows
 
 
+# Table 8: the cantilever under its own weight (examples/beam with Fy = 0 and
+# gy, fix sph/bodyforce) against the FE continuum under the same body force
+TABLE8_DX = (0.002, 0.001, 0.0005)    # 10, 20, 40 particles through the depth
+TABLE8_CASES = ((0.0, "stress"), (0.3, "stress"), (0.4, "strain"))
+TABLE8_GY = -6.0e4    # m/s^2: a tip deflection of 9 % of L, geometrically nonlinear
+
+
+def self_weight_errors(dx: float, nu: float, plane: str, gy: float = TABLE8_GY,
+                       nprocs: int = 1) -> dict:
+    """examples/beam under its weight alone: the relative errors of the
+    tip column's mean deflection and of the end-face centre's (compute
+    sph/probe) against the FE continuum at the same material points."""
+    from . import fe
+    from .runner import run_mpi, run_script
+    variables = {"Fy": 0.0, "gy": gy, "dx": dx, "nu": nu, "plane": plane, "ftol": 1e-10}
+    names = ["tip_dv", "end_dv"]
+    out = (run_script(BEAM, variables, read=names) if nprocs == 1
+           else run_mpi(BEAM, variables, nprocs))
+    column = fe.gravity_tip(-gy, dx, nu, plane, point="column")
+    end = fe.gravity_tip(-gy, None, nu, plane, point="end")
+    return {"dx": dx, "nu": nu, "plane": plane, "gy": gy, "wall": out.wall,
+            "tip_dv": out.variables["tip_dv"], "end_dv": out.variables["end_dv"],
+            "err_column": out.variables["tip_dv"] / column["dv"] - 1.0,
+            "err_end": out.variables["end_dv"] / end["dv"] - 1.0,
+            "fe_error": max(column["error_estimate"], end["error_estimate"])}
+
+
+def table8(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
+    """The most common structural load, self-weight, on the paper's beam
+    (defaults: mirror clamp, exact volumes, hourglass 0.2), against the FE
+    continuum; q = observed order."""
+    print(f"\nTable 8 (ICB, defaults): the beam under its own weight alone, g = {-TABLE8_GY:g} "
+          "m/s^2 (fix sph/bodyforce; tip deflection 9 % of L), against the FE continuum under "
+          "the same body force: relative error of the tip column's mean deflection (x = L - "
+          "dx/2) and of the end-face centre's (L, H/2) by compute sph/probe, q = observed order")
+    head = (f"{'nu':>4} {'plane':>6} {'dx[mm]':>7} | {'tip column':>10} {'q':>5} | "
+            f"{'end centre':>10} {'q':>5} | {'FE error':>8} | {'wall[s]':>7}")
+    print_head(head)
+    rows = []
+    for nu, plane in TABLE8_CASES:
+        series = []
+        for dx in TABLE8_DX:
+            progress(f"[esph] beam under its weight, nu {nu:g} plane {plane}, dx = {dx * 1e3:g} mm ...")
+            series.append(self_weight_errors(dx, nu, plane, nprocs=nprocs))
+        dxs = [r["dx"] for r in series]
+        q_col = order([r["err_column"] for r in series], dxs)
+        q_end = order([r["err_end"] for r in series], dxs)
+        for j, r in enumerate(series):
+            print(f"{nu:4g} {plane:>6} {r['dx'] * 1e3:7g} | {100 * r['err_column']:+9.4f}% "
+                  f"{q_col[j]:5.2f} | {100 * r['err_end']:+9.4f}% {q_end[j]:5.2f} | "
+                  f"{r['fe_error']:8.1e} | {r['wall']:7.2f}", flush=True)
+            rows.append({"table": "8", "problem": "beam_self_weight", **r})
+    return rows
+
+
 def run_all(run: Runner, variants: list[str], full: bool, tables="1234", dx: float = 0.002,
             beam_loads=theory.PAPER_BEAM_LOADS) -> list[Row]:
     plan = FULL if full else QUICK
@@ -450,6 +505,8 @@ def validate(out: Path, variants: list[str], full: bool, tables: str, dx: float,
         data += table6(full, nprocs, stress, progress=progress)
     if "7" in tables:
         data += table7(full, nprocs, progress=progress)
+    if "8" in tables:
+        data += table8(full, nprocs, progress=progress)
     write_rows(out / "validate.json", data)
     if json_path:
         write_rows(Path(json_path), data)
