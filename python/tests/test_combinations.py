@@ -169,3 +169,50 @@ def test_periodic_box_remapped_before_the_first_run_is_refused(tmp_path):
     rc, out = run_lmp(script, tmp_path)
     assert rc == 0, error_line(out)
 
+
+
+PLATEN = """
+units si
+dimension 2
+boundary s s p
+atom_style sph/elastic
+atom_modify map array
+lattice sq 0.001 origin 0.5 0.5 0.0
+region box block -3 19 0 7 -0.5 0.5
+create_box 1 box
+create_atoms 1 box
+region left block -3 0 INF INF INF INF
+region right block 16 19 INF INF INF INF
+group left region left
+group right region right
+set group all mol 1
+set_sph_volumes all lattice 0.001 thickness 0.001 density 1000
+pair_style sph/icb 0.0012 plane stress
+pair_coeff * * 1e9 0.3
+neighbor 0.0005 bin
+fix l left sph/mirror x 0.0
+fix r right sph/mirror x 0.016 displace {u} 0.0
+min_style sph/newton
+minimize 0 1e-8 {iterations} 1000
+"""
+
+
+def test_platen_pushed_too_far_in_one_minimisation_is_refused_with_the_increments(tmp_path):
+    """A 10 % platen compression in one minimisation put the mirror atoms
+    inside the body's first layers: it ended inverted, and the message
+    blamed St. Venant-Kirchhoff's compressive limit.  Refused, naming the
+    increments; in those increments Newton reaches the state."""
+    rc, out = run_lmp(PLATEN.format(u=-0.0016, iterations=20), tmp_path, timeout=120)
+    assert rc != 0
+    err = error_line(out)
+    assert "Fix r sph/mirror pushes its plane 0.0016 into the body in one minimization" in err
+    assert "in 4 increments of at most 0.0004" in err
+    stepped = PLATEN.format(u="v_u", iterations=20).replace(
+        "fix r right", "variable k loop 4\nvariable u equal -0.0004*v_k\nfix r right").replace(
+        "minimize 0 1e-8 20 1000",
+        "label again\nminimize 0 1e-8 20 1000\nprint \"FNORM $(fnorm)\"\nnext k\njump SELF again")
+    rc, out = run_lmp(stepped, tmp_path, timeout=120)
+    assert rc == 0, error_line(out)
+    norms = [float(ln.split()[1]) for ln in out.splitlines() if ln.startswith("FNORM")]
+    assert len(norms) == 4 and max(norms) < 1e-8
+    assert "NOT an equilibrium" not in out and "inverts particles" not in out

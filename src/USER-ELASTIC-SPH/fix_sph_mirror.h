@@ -23,6 +23,7 @@ FixStyle(sph/mirror,FixSPHMirror);
 #include "fix.h"
 #include "sph_elastic_values.h"
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <utility>
@@ -66,6 +67,12 @@ class FixSPHMirror : public Fix {
   // the plane: its normal axis (0, 1, 2) and reference position
   int plane_axis() const { return axis; }
   double plane_position() const { return plane; }
+  // the size of the plane's prescribed displacement as last applied
+  double displacement_size() const
+  {
+    return std::sqrt(disp.value[0] * disp.value[0] + disp.value[1] * disp.value[1] +
+                     disp.value[2] * disp.value[2]);
+  }
   // local index (owned or ghost copy) of the source of owned mirror atom i
   int local_source(int i) const;
 
@@ -90,6 +97,10 @@ class FixSPHMirror : public Fix {
   void build_partners_undisplaced(class FixSPHPartners *);
   void hand_over_forces();
   void check_other_fixes();
+  void check_displacement_jump();
+  double applied[3] = {0.0, 0.0, 0.0};    // the plane's displacement where the mirrors are
+  double body_side = 0.0;                 // +1: the body lies at larger coordinates
+  double layer_spacing = 0.0;             // between the plane's nearest layers
 };
 
 }    // namespace LAMMPS_NS

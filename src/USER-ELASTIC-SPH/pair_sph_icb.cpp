@@ -24,6 +24,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_sph_mirror.h"
 #include "fix_sph_partners.h"
 #include "fix_sph_rotation.h"
 #include "memory.h"
@@ -329,6 +330,14 @@ void PairSPHICB::report_minimize_residual()
   if (search_failed && ratio > LOAD_UNSEEN)
     advice = "The body hardly deformed: the minimiser sees no energy in the load (give its fix "
              "'fix_modify ID energy yes') or the load cannot move the atoms it acts on";
+  else if (newton && !displacing_mirror().empty())
+    advice = fmt::format(
+        "Fix {} sph/mirror prescribes a displacement of {:.6g} in one minimisation, which "
+        "Newton may not reach from the state it starts from: apply it in increments (a loop of "
+        "minimize commands, each with a larger 'displace v_u'; 4 reached a 10 % platen "
+        "compression that one could not), then check the law's limits (St. Venant-Kirchhoff "
+        "has no equilibrium in compression beyond a stretch of 1/sqrt(3))",
+        displacing_mirror(), displacing_size());
   else if (newton)
     advice = "If Newton's force norm stalled, the load may be more than the body can carry: "
              "St. Venant-Kirchhoff has no equilibrium in compression beyond a stretch of "
@@ -341,6 +350,26 @@ void PairSPHICB::report_minimize_residual()
                    "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
                    "force norm {:.6g}: the state is NOT an equilibrium. {}",
                    min->stopstr, residual, ratio, internal, advice);
+}
+
+/* ----------------------------------------------------------------------
+   the first fix sph/mirror that prescribes a displacement, and its size
+------------------------------------------------------------------------- */
+
+std::string PairSPHICB::displacing_mirror() const
+{
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
+    if (dynamic_cast<FixSPHMirror *>(fix)->displacement_size() > 0.0) return fix->id;
+  return {};
+}
+
+double PairSPHICB::displacing_size() const
+{
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    const double size = dynamic_cast<FixSPHMirror *>(fix)->displacement_size();
+    if (size > 0.0) return size;
+  }
+  return 0.0;
 }
 
 /* ---------------------------------------------------------------------- */

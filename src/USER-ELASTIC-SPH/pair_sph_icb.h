@@ -22,6 +22,8 @@ PairStyle(sph/icb,PairSPHICB);
 
 #include "pair_sph_elastic.h"
 
+#include <string>
+
 #include <functional>
 #include <vector>
 
@@ -123,6 +125,8 @@ class PairSPHICB : public PairSPHElastic {
   // with the quadratic gradient, from 1.0 h/c with the linear one
   double stable_fraction() const override;
   void report_minimize_residual();
+  std::string displacing_mirror() const;
+  double displacing_size() const;
   void refresh_partner_indices();
   bool partner_indices_current() const;
   void require_current_partners(const char *what) const;
