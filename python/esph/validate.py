@@ -455,6 +455,7 @@ def table8(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
                   f"{q_col[j]:5.2f} | {100 * r['err_end']:+9.4f}% {q_end[j]:5.2f} | "
                   f"{r['fe_error']:8.1e} | {r['wall']:7.2f}", flush=True)
             rows.append({"table": "8", "problem": "beam_self_weight", **r})
+        print_corner_bound(nu, plane)
     return rows
 
 
