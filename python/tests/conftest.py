@@ -35,6 +35,22 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
     """)
 
 
+def lattice_2d_script(box: str, dx: float = 1.0e-3) -> str:
+    """Input lines of a 2d si box 'xlo xhi ylo yhi' (lattice units) filled
+    with particles on the cell centres of a square lattice of spacing dx."""
+    return f"""
+units si
+dimension 2
+boundary s s p
+atom_style sph/elastic
+atom_modify map array
+lattice sq {dx} origin 0.5 0.5 0.0
+region box block {box} -0.5 0.5
+create_box 1 box
+create_atoms 1 box
+"""
+
+
 def apply_affine(lmp, A, dim):
     """Move every particle to x = A x0 (x0 = reference position)."""
     n = lmp.get_natoms()

@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from conftest import make_lammps, run_lmp
+from conftest import lattice_2d_script, make_lammps, run_lmp
 from test_robustness import block_script, error_line, our_warnings
 
 DX = 1.0e-3
@@ -171,16 +171,7 @@ def test_periodic_box_remapped_before_the_first_run_is_refused(tmp_path):
 
 
 
-PLATEN = """
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block -3 19 0 7 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
+PLATEN = lattice_2d_script("-3 19 0 7") + """
 region left block -3 0 INF INF INF INF
 region right block 16 19 INF INF INF INF
 group left region left

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps, run_lmp
+from conftest import lattice_2d_script, make_lammps, run_lmp
 from test_traction import DX, lattice_2d
 
 NX, NY = 12, 6
@@ -99,18 +99,8 @@ def test_probe_syntax_errors(words, message):
     lmp.close()
 
 
-SCRIPT = """
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block -3 20 0 5 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
-set group all mol 1
-set_sph_volumes all lattice 0.001 thickness 0.001 density 1000.0
+# the clamped strip's model and probes: what a restart does not keep
+MODEL = """
 pair_style sph/icb 0.0012 plane stress
 pair_coeff * * 1.0e9 0.3
 neighbor 0.0005 bin
@@ -118,15 +108,19 @@ region clampzone block INF 0.0 INF INF INF INF units box
 group clamp region clampzone
 group body subtract all clamp
 fix hold clamp sph/mirror x 0.0
+compute tip body sph/probe 0.02 0.0025 0.01 0.0
+"""
+PRINT = 'print "PROBE $(c_tip[1][1]:%.15e) $(c_tip[1][2]:%.15e) $(c_tip[2][4]:%.15e)"\n'
+SCRIPT = (lattice_2d_script("-3 20 0 5") + """
+set group all mol 1
+set_sph_volumes all lattice 0.001 thickness 0.001 density 1000.0
+""" + MODEL + """
 fix load all sph/traction x 0.02 traction 0.0 -2.0e5
 fix_modify load energy yes
-compute tip body sph/probe 0.02 0.0025 0.01 0.0
-{before}
 min_style sph/newton
 minimize 0 1e-10 50 100
 {after}
-print "PROBE $(c_tip[1][1]:%.15e) $(c_tip[1][2]:%.15e) $(c_tip[2][4]:%.15e)"
-"""
+""" + PRINT)
 
 
 def probe_line(out: str) -> list[float]:
@@ -136,27 +130,15 @@ def probe_line(out: str) -> list[float]:
 
 @pytest.mark.slow
 def test_probe_is_the_same_on_1_and_2_ranks_and_after_a_restart(tmp_path):
-    one_rc, one = run_lmp(SCRIPT.format(before="", after="write_restart probe.restart"),
+    one_rc, one = run_lmp(SCRIPT.format(after="write_restart probe.restart"),
                           tmp_path, nprocs=1)
     assert one_rc == 0, one
-    two_rc, two = run_lmp(SCRIPT.format(before="", after=""), tmp_path, nprocs=2)
+    two_rc, two = run_lmp(SCRIPT.format(after=""), tmp_path, nprocs=2)
     assert two_rc == 0, two
     a, b = probe_line(one), probe_line(two)
     assert a[1] < 0.0
     assert np.allclose(a, b, rtol=1e-10, atol=0)
-    restarted = """
-read_restart probe.restart
-pair_style sph/icb 0.0012 plane stress
-pair_coeff * * 1.0e9 0.3
-neighbor 0.0005 bin
-region clampzone block INF 0.0 INF INF INF INF units box
-group clamp region clampzone
-group body subtract all clamp
-fix hold clamp sph/mirror x 0.0
-compute tip body sph/probe 0.02 0.0025 0.01 0.0
-run 0
-print "PROBE $(c_tip[1][1]:%.15e) $(c_tip[1][2]:%.15e) $(c_tip[2][4]:%.15e)"
-"""
+    restarted = "read_restart probe.restart\n" + MODEL + "run 0\n" + PRINT
     rc, out = run_lmp(restarted, tmp_path, nprocs=2)
     assert rc == 0, out
     assert np.allclose(probe_line(out), a, rtol=1e-10, atol=0)

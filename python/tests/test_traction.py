@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import apply_affine, make_lammps
+from conftest import apply_affine, lattice_2d_script, make_lammps
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -63,17 +63,7 @@ def block(lmp, n, dim, gradient="quadratic", volumes=True):
 def lattice_2d(lmp, box):
     """A 2d si box 'xlo xhi ylo yhi' (lattice units) filled with particles
     on the cell centres of a square lattice of spacing DX."""
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block {box} -0.5 0.5
-        create_box 1 box
-        create_atoms 1 box
-    """)
+    lmp.commands_string(lattice_2d_script(box, DX))
 
 
 def uniaxial_plane_stress(stretch):

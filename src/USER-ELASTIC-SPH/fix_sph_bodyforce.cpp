@@ -50,7 +50,7 @@ using namespace FixConst;
 ------------------------------------------------------------------------- */
 
 FixSPHBodyForce::FixSPHBodyForce(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), field(nullptr), nmax(0), excluded_groups(0), nexcluded(0), reduced(0)
+    Fix(lmp, narg, arg), field(nullptr), nmax(0), excluded_groups(0), nexcluded(0)
 {
   const int dim = domain->dimension;
   const int given = narg - 3;
@@ -75,8 +75,6 @@ FixSPHBodyForce::FixSPHBodyForce(LAMMPS *lmp, int narg, char **arg) :
   if (dim == 2 && given == 3 && (kind[2] != CONSTANT || value[2] != 0.0))
     error->all(FLERR, 5, "Fix sph/bodyforce: a 2d body force has no z component (give az = 0)");
 
-  // f_ID reads zeros before the first run
-  for (int m = 0; m < 4; m++) local[m] = total[m] = 0.0;
   scalar_flag = 1;
   vector_flag = 1;
   size_vector = 3;
@@ -216,8 +214,7 @@ void FixSPHBodyForce::post_force(int /*vflag*/)
   const int *mask = atom->mask;
   const imageint *image = atom->image;
   const int dim = domain->dimension;
-  for (double &sum : local) sum = 0.0;
-  reduced = 0;
+  sums.clear();
 
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit) || (mask[i] & excluded_groups)) continue;
@@ -226,8 +223,8 @@ void FixSPHBodyForce::post_force(int /*vflag*/)
     for (int a = 0; a < dim; a++) {
       const double fa = rmass[i] * (kind[a] == ATOM ? field[i][a] : value[a]);
       f[i][a] += fa;
-      local[0] -= fa * (unwrap[a] - x0[i][a]);
-      local[1 + a] += fa;
+      sums.local[0] -= fa * (unwrap[a] - x0[i][a]);
+      sums.local[1 + a] += fa;
     }
   }
 }
@@ -238,11 +235,7 @@ void FixSPHBodyForce::post_force(int /*vflag*/)
 
 double FixSPHBodyForce::compute_scalar()
 {
-  if (!reduced) {
-    MPI_Allreduce(local, total, 4, MPI_DOUBLE, MPI_SUM, world);
-    reduced = 1;
-  }
-  return total[0];
+  return sums.get(0, world);
 }
 
 /* ----------------------------------------------------------------------
@@ -251,11 +244,7 @@ double FixSPHBodyForce::compute_scalar()
 
 double FixSPHBodyForce::compute_vector(int n)
 {
-  if (!reduced) {
-    MPI_Allreduce(local, total, 4, MPI_DOUBLE, MPI_SUM, world);
-    reduced = 1;
-  }
-  return total[n + 1];
+  return sums.get(n + 1, world);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -21,6 +21,7 @@ FixStyle(sph/bodyforce,FixSPHBodyForce);
 #define LMP_FIX_SPH_BODYFORCE_H
 
 #include "fix.h"
+#include "sph_elastic_mpi.h"
 
 #include <string>
 
@@ -55,10 +56,9 @@ class FixSPHBodyForce : public Fix {
   int varindex[3];           // its index, found at init
   double **field;            // atom-style components per owned atom
   int nmax;
-  int excluded_groups;          // groups of fix sph/mirror: their atoms are images
-  bigint nexcluded;             // group atoms left out as mirror images
-  double local[4], total[4];    // load potential and applied force, this rank / all
-  int reduced;
+  int excluded_groups;            // groups of fix sph/mirror: their atoms are images
+  bigint nexcluded;               // group atoms left out as mirror images
+  SPHElastic::LazySum<4> sums;    // load potential, applied force (f_ID reads 0 before a run)
 
   void evaluate_field();
 };

@@ -90,7 +90,7 @@ const FixSPHMirror *mirror_owner(const std::vector<FixSPHMirror *> &mirrors, int
 ------------------------------------------------------------------------- */
 
 FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr), reduced(0)
+    Fix(lmp, narg, arg), pair(nullptr)
 {
   if (narg < 6) utils::missing_cmd_args(FLERR, "fix sph/traction", error);
   const int dim = domain->dimension;
@@ -145,7 +145,6 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
 
   for (double &n : normal) n = 0.0;
   // f_ID reads zeros before the first run
-  for (int m = 0; m < 4; m++) energy_force[m] = energy_force_all[m] = 0.0;
   support = half_thickness = gap = far_side = 0.0;
   far_is_mirror = false;
   shallow = false;
@@ -558,8 +557,7 @@ void FixSPHTraction::post_force(int /*vflag*/)
   double **x0 = atom->x0;
   double **f = atom->f;
   const imageint *image = atom->image;
-  for (double &e : energy_force) e = 0.0;
-  reduced = 0;
+  sums.clear();
 
   for (const auto &[id_atom, c] : coefficient) {
     const int i = atom->map(id_atom);
@@ -570,8 +568,8 @@ void FixSPHTraction::post_force(int /*vflag*/)
     domain->unmap(x[i], image[i], unwrap);
     for (int a = 0; a < 3; a++) {
       f[i][a] += fadd[a];
-      energy_force[0] -= fadd[a] * (unwrap[a] - x0[i][a]);
-      energy_force[1 + a] += fadd[a];
+      sums.local[0] -= fadd[a] * (unwrap[a] - x0[i][a]);
+      sums.local[1 + a] += fadd[a];
     }
   }
 }
@@ -582,11 +580,7 @@ void FixSPHTraction::post_force(int /*vflag*/)
 
 double FixSPHTraction::compute_scalar()
 {
-  if (!reduced) {
-    MPI_Allreduce(energy_force, energy_force_all, 4, MPI_DOUBLE, MPI_SUM, world);
-    reduced = 1;
-  }
-  return energy_force_all[0];
+  return sums.get(0, world);
 }
 
 /* ----------------------------------------------------------------------
@@ -595,9 +589,5 @@ double FixSPHTraction::compute_scalar()
 
 double FixSPHTraction::compute_vector(int n)
 {
-  if (!reduced) {
-    MPI_Allreduce(energy_force, energy_force_all, 4, MPI_DOUBLE, MPI_SUM, world);
-    reduced = 1;
-  }
-  return energy_force_all[n + 1];
+  return sums.get(n + 1, world);
 }

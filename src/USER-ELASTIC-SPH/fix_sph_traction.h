@@ -21,6 +21,7 @@ FixStyle(sph/traction,FixSPHTraction);
 #define LMP_FIX_SPH_TRACTION_H
 
 #include "fix.h"
+#include "sph_elastic_mpi.h"
 #include "sph_elastic_values.h"
 
 #include <array>
@@ -66,8 +67,7 @@ class FixSPHTraction : public Fix {
   // p c[a] on a surface); the same on every rank
   std::unordered_map<tagint, std::array<double, 3>> coefficient;
   class PairSPHICB *pair;
-  double energy_force[4], energy_force_all[4];    // load potential, total applied force
-  int reduced;
+  SPHElastic::LazySum<4> sums;    // load potential, total applied force (f_ID reads 0 before a run)
 
   void find_side();
   double opposite_side(double, bool &) const;

@@ -53,6 +53,31 @@ namespace SPHElastic {
     return all;
   }
 
+  // a fix's per-rank sums of its last force computation (a load potential
+  // and the applied force, say), summed over the ranks on the first request
+  // after that computation only
+  template <int N> class LazySum {
+   public:
+    double local[N] = {};
+    void clear()
+    {
+      for (double &v : local) v = 0.0;
+      reduced = false;
+    }
+    double get(int k, MPI_Comm world)
+    {
+      if (!reduced) {
+        MPI_Allreduce(local, total, N, MPI_DOUBLE, MPI_SUM, world);
+        reduced = true;
+      }
+      return total[k];
+    }
+
+   private:
+    double total[N] = {};
+    bool reduced = false;
+  };
+
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 
