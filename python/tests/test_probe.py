@@ -39,41 +39,39 @@ PROBES = [(0.5 * NX * DX, 0.5 * NY * DX),     # interior, between particles
           (0.37 * NX * DX, 0.81 * NY * DX)]
 
 
-def test_quadratic_displacement_is_probed_exactly():
+def probed(displacement) -> np.ndarray:
+    """The probe's array at PROBES after every particle of the strip is moved
+    to x = X + displacement(X)."""
     lmp = make_lammps()
     strip(lmp, PROBES)
     lmp.command("run 0")
     n = lmp.get_natoms()
     x = lmp.numpy.extract_atom("x")
     x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
-    x[:n, :2] = x0[:, :2] + quadratic_u(x0[:, :2])
+    x[:n, :2] = x0[:, :2] + displacement(x0[:, :2])
     lmp.command("run 0")
-    got = np.array([[lmp.numpy.extract_compute("probe", 0, 2)[p, c] for c in range(2)]
-                    for p in range(len(PROBES))])
+    arr = lmp.numpy.extract_compute("probe", 0, 2)
+    values = np.array([[arr[p, c] for c in range(15)] for p in range(len(PROBES))])
+    lmp.close()
+    return values
+
+
+def test_quadratic_displacement_is_probed_exactly():
+    got = probed(quadratic_u)[:, :2]
     exact = quadratic_u(np.array(PROBES))
     assert np.max(np.abs(got - exact)) < 1e-12 * np.max(np.abs(exact))
-    lmp.close()
 
 
 def test_uniform_stress_and_strain_are_probed_exactly():
     """A uniform stretch: the probe returns the particles' (uniform) stress
     and strain on the surface as inside."""
-    lmp = make_lammps()
-    strip(lmp, PROBES)
-    lmp.command("run 0")
-    n = lmp.get_natoms()
-    x = lmp.numpy.extract_atom("x")
-    x0 = np.array(lmp.numpy.extract_atom("x0")[:n])
-    x[:n, 0] = 1.001 * x0[:, 0]
-    lmp.command("run 0")
-    arr = lmp.numpy.extract_compute("probe", 0, 2)
-    sxx = [arr[p, 3] for p in range(len(PROBES))]
-    exx = [arr[p, 9] for p in range(len(PROBES))]
+    values = probed(lambda X: np.stack([1e-3 * X[:, 0], 0.0 * X[:, 1]], axis=-1))
+    sxx, exx = values[:, 3], values[:, 9]
     E_green = 0.5 * (1.001 ** 2 - 1.0)
-    # the particles' own strains carry 1e-10 of round-off: F = sum (x_j - x_i) g_ij
+    # the particles' own strains, and so their stresses, carry ~1e-10 of
+    # round-off relative to a strain of 1e-3: F = sum (x_j - x_i) g_ij
     assert np.allclose(exx, E_green, rtol=1e-9, atol=0)
-    assert np.ptp(sxx) < 1e-10 * abs(sxx[0]) and sxx[0] > 0.0
-    lmp.close()
+    assert np.ptp(sxx) < 1e-9 * abs(sxx[0]) and sxx[0] > 0.0
 
 
 def test_point_outside_the_body_is_an_error():
