@@ -207,3 +207,19 @@ def test_platen_pushed_too_far_in_one_minimisation_is_refused_with_the_increment
     norms = [float(ln.split()[1]) for ln in out.splitlines() if ln.startswith("FNORM")]
     assert len(norms) == 4 and max(norms) < 1e-8
     assert "NOT an equilibrium" not in out and "inverts particles" not in out
+
+
+def test_body_atoms_left_beyond_the_mirror_plane_are_warned(tmp_path):
+    """A clamp group that stops two layers short of its plane left those
+    layers as body beyond the clamp, silently."""
+    extra = """
+region clampzone block INF -0.002 INF INF INF INF units box
+group clamp region clampzone
+fix hold clamp sph/mirror x 0.0
+run 0
+"""
+    script = block_script(pair_args="plane stress", extra=extra).replace(
+        "region box block 0 12", "region box block -3 12")
+    rc, out = run_lmp(script, tmp_path)
+    assert rc == 0, error_line(out)
+    assert "Fix hold sph/mirror: 8 atoms of the body lie beyond the plane x = 0" in out

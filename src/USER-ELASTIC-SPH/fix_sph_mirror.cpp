@@ -374,6 +374,7 @@ void FixSPHMirror::pair_up()
   MPI_Allreduce(&side_mine, &body_side, 1, MPI_DOUBLE, MPI_MAX, world);
   if (body_side == 0.0) MPI_Allreduce(&side_mine, &body_side, 1, MPI_DOUBLE, MPI_MIN, world);
   layer_spacing = 2.0 * dmin;
+  warn_if_atoms_behind(dmax + tol);
 
   // atoms of every mirror group (this one's and other fixes') are no
   // sources: a mirror of a mirror is not supported
@@ -439,6 +440,50 @@ void FixSPHMirror::pair_up()
   comm_what = COMM_VOLUME;
   comm->forward_comm(this);
   comm_what = COMM_POSITION;
+}
+
+/* ----------------------------------------------------------------------
+   atoms of the mirrors' body on the mirror side of the plane but outside
+   the group (a group that stops short of the plane) act as body beyond
+   the clamp, with mirror atoms behind them: the clamp is not at the plane
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::warn_if_atoms_behind(double reach)
+{
+  const int *mask = atom->mask;
+  const tagint *molecule = atom->molecule;
+  double **x0 = atom->x0;
+  tagint bodies[2] = {MAXTAGINT, MAXTAGINT}, bodies_all[2];    // smallest and -largest mol
+  for (int i = 0; i < atom->nlocal; i++)
+    if (mask[i] & groupbit) {
+      bodies[0] = std::min(bodies[0], molecule[i]);
+      bodies[1] = std::min(bodies[1], -molecule[i]);
+    }
+  MPI_Allreduce(bodies, bodies_all, 2, MPI_LMP_TAGINT, MPI_MIN, world);
+  const int mirrorbits = mirror_groups_of_all_fixes();
+  bigint behind = 0, behind_all = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (mask[i] & mirrorbits) continue;
+    const double beyond = (plane - x0[i][axis]) * body_side;    // > 0 on the mirror side
+    if (beyond > 0.0 && beyond <= reach && molecule[i] >= bodies_all[0] &&
+        molecule[i] <= -bodies_all[1])
+      behind++;
+  }
+  MPI_Allreduce(&behind, &behind_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (behind_all > 0 && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix {} sph/mirror: {} atoms of the body lie beyond the plane {} = {}, among "
+                   "the mirror atoms, but are not in group {}: they act as body beyond the clamp. "
+                   "Put every atom beyond the plane into the group (e.g. a region ending at the "
+                   "plane)",
+                   id, behind_all, "xyz"[axis], plane, group -> names[igroup]);
+}
+
+int FixSPHMirror::mirror_groups_of_all_fixes() const
+{
+  int bits = 0;
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) bits |= fix->groupbit;
+  return bits;
 }
 
 /* ----------------------------------------------------------------------

@@ -98,6 +98,8 @@ class FixSPHMirror : public Fix {
   void hand_over_forces();
   void check_other_fixes();
   void check_displacement_jump();
+  void warn_if_atoms_behind(double reach);
+  int mirror_groups_of_all_fixes() const;
   double applied[3] = {0.0, 0.0, 0.0};    // the plane's displacement where the mirrors are
   double body_side = 0.0;                 // +1: the body lies at larger coordinates
   double layer_spacing = 0.0;             // between the plane's nearest layers
