@@ -70,6 +70,8 @@ class FixSPHTraction : public Fix {
   SPHElastic::LazySum<4> sums;    // load potential, total applied force (f_ID reads 0 before a run)
 
   void find_side();
+  void check_depth() const;
+  bool opposite_is_loaded(double farthest) const;
   double opposite_side(double, bool &) const;
   bool opposite_is_mirror(double) const;
   double normal_moment(int, const int *) const;
