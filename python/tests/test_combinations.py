@@ -113,22 +113,31 @@ def test_advised_timestep_is_below_the_hourglass_limited_limit(tmp_path):
     assert advised < limit < 0.25
 
 
-def clamped_tip(tmp_path, before_mirror: str) -> float:
-    """Tip deflection of a mirror-clamped strip under an end traction, with
-    some commands between the pair style and the fix sph/mirror."""
-    from conftest import by_id
+def strip_model(lmp, box: str, before_clamp: str = "") -> None:
+    """A 2d strip of the lattice box (spacing 1 mm, t = 1 mm, exact volumes,
+    sph/icb plane stress, E = 1 GPa, nu = 0.3) and the group clamp of its
+    atoms at x < 0; before_clamp runs between the pair style and the group."""
     from test_traction import lattice_2d
-    lmp = make_lammps()
-    lattice_2d(lmp, "-3 16 0 5")
+    lattice_2d(lmp, box)
     lmp.commands_string(f"""
         set group all mol 1
         set_sph_volumes all lattice {DX} thickness {T} density 1000
         pair_style sph/icb {1.2 * DX} plane stress
         pair_coeff * * 1e9 0.3
         neighbor {0.5 * DX} bin
-        {before_mirror}
+        {before_clamp}
         region clampzone block INF 0.0 INF INF INF INF units box
         group clamp region clampzone
+    """)
+
+
+def clamped_tip(tmp_path, before_mirror: str) -> float:
+    """Tip deflection of a mirror-clamped strip under an end traction, with
+    some commands between the pair style and the fix sph/mirror."""
+    from conftest import by_id
+    lmp = make_lammps()
+    strip_model(lmp, "-3 16 0 5", before_mirror)
+    lmp.commands_string("""
         fix hold clamp sph/mirror x 0.0
         fix load all sph/traction x 0.016 traction 0.0 -1e5
         fix_modify load energy yes
@@ -228,17 +237,9 @@ run 0
 def top_pressure_resultant(ny: int, mirror: str = "") -> float:
     """The y force that a pressure of 1e6 Pa on the top face of a strip of
     20 x ny particles (spacing 1 mm, t = 1 mm) applies: -20 N requested."""
-    from test_traction import lattice_2d
     lmp = make_lammps()
-    lattice_2d(lmp, f"{-3 if mirror else 0} 20 0 {ny}")
+    strip_model(lmp, f"{-3 if mirror else 0} 20 0 {ny}")
     lmp.commands_string(f"""
-        set group all mol 1
-        set_sph_volumes all lattice {DX} thickness {T} density 1000
-        pair_style sph/icb {1.2 * DX} plane stress
-        pair_coeff * * 1e9 0.3
-        neighbor {0.5 * DX} bin
-        region clampzone block INF 0.0 INF INF INF INF units box
-        group clamp region clampzone
         {f'fix hold clamp sph/mirror x 0.0 {mirror}' if mirror else ''}
         fix t all sph/traction y {ny * DX} pressure 1e6
         run 0
