@@ -236,3 +236,16 @@ def test_cantilever_under_its_weight_matches_the_fe_continuum_at_second_order():
     assert 0.0 < coarse["err_end"] < 2.0e-4 and 0.0 < coarse["err_column"] < 2.0e-4
     order = np.log2(coarse["err_end"] / fine["err_end"])
     assert order > 1.8, (coarse, fine)
+
+
+@pytest.mark.slow
+def test_self_weight_statics_agree_on_1_and_2_ranks():
+    """examples/beam under its weight by min_style sph/newton: the tip column
+    and the end-face probe on 2 ranks are the 1-rank answer to round-off."""
+    from esph.problems import BEAM
+    from esph.runner import run_mpi
+    variables = {"Fy": 0.0, "gy": -6.0e4, "dx": 0.004, "ftol": 1e-10}
+    one, two = (run_mpi(BEAM, variables, n).variables for n in (1, 2))
+    assert one["end_dv"] < 0.0
+    for key in ("tip_dv", "end_dv", "end_dh"):
+        assert two[key] == pytest.approx(one[key], rel=1e-12), key
