@@ -271,3 +271,16 @@ run 0
     rc, out = run_lmp(block_script(nx=20, ny=8, pair_args="plane stress", extra=extra), tmp_path)
     assert rc == 0, error_line(out)
     assert "the applied resultant is off by 0.1-2 % (7-8 particles through it)" in out
+
+
+def test_ccb_far_above_its_stable_step_stops_before_binning(tmp_path):
+    """sph/ccb at 25 h/c threw atoms metres away within steps, and LAMMPS
+    stopped on 'Too many neighbor bins'; the run now stops on the partners'
+    stretch with the time-step advice."""
+    extra = ("velocity all ramp vy 0 1.0 x 0 0.04 units box\nfix i all sph/ccb/nve\nrun 0\n"
+             "timestep $(25*v_dts)\nrun 200\n")
+    rc, out = run_lmp(block_script(nx=40, ny=10, pair="sph/ccb", pair_args="", extra=extra),
+                      tmp_path, timeout=60)
+    assert rc != 0
+    err = error_line(out)
+    assert "kernel supports): the run blew up" in err and "25 h/c" in err, err
