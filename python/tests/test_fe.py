@@ -360,21 +360,31 @@ def _gravity_linear(level: int, nu: float, plane: str) -> dict:
                           axis=(0.25 * L, 0.5 * L, 0.75 * L))[9.81]
 
 
+def assert_tip_reader_covers(pr, reader) -> list:
+    """Every (case, load, dx) of problem pr and its end point can be read:
+    the five fields, moving down and toward the clamp, and the end-face
+    centre further than the tip column (it is further out).  Returns
+    (nu, plane, gy, end entry) per case and load."""
+    ends = []
+    for nu, plane in pr.cases:
+        for load in pr.loads:
+            gy = -load
+            for dx in pr.dxs:
+                r = reader(gy, dx, nu=nu, plane=plane)
+                assert set(r) == {"dh", "dv", "error_estimate", "err_dh", "err_dv"}
+                assert r["dv"] < 0.0 and r["dh"] < 0.0
+            end = reader(gy, nu=nu, plane=plane, point="end")
+            assert end["dv"] < reader(gy, pr.dxs[-1], nu=nu, plane=plane)["dv"]
+            ends.append((nu, plane, gy, end))
+    return ends
+
+
 def test_gravity_table_covers_every_case():
     pr = fe.GRAVITY_PROBLEMS[GRAVITY]
     assert pr.load_kind == "gravity" and pr.rho == 1000.0
     entries = fe._load_table(fe.GRAVITY_TABLE)["problems"][GRAVITY]["entries"]
     assert len(entries) == len(pr.cases) * len(pr.loads) * (len(pr.dxs) + len(pr.points))
-    for nu, plane in pr.cases:
-        for load in pr.loads:
-            gy = -load
-            for dx in pr.dxs:
-                r = fe.gravity_tip(gy, dx, nu=nu, plane=plane)
-                assert set(r) == {"dh", "dv", "error_estimate", "err_dh", "err_dv"}
-                assert r["dv"] < 0.0 and r["dh"] < 0.0       # down, and toward the clamp
-            end = fe.gravity_tip(gy, nu=nu, plane=plane, point="end")
-            # the end-face centre moves more than the tip column (it is further out)
-            assert end["dv"] < fe.gravity_tip(gy, pr.dxs[-1], nu=nu, plane=plane)["dv"]
+    assert_tip_reader_covers(pr, fe.gravity_tip)
 
 
 def test_gravity_table_meets_the_convergence_target():
@@ -657,15 +667,7 @@ def test_cylinder_table_covers_every_case_and_meets_the_target():
         tol = CYLINDER_TARGET[(e["nu"], e["plane"])]
         assert e["error_estimate"] < tol, e
         assert e["err_dv"] < tol * abs(e["dv"]) and e["err_dh"] < tol * abs(e["dh"]), e
-    for nu, plane in pr.cases:
-        for load in pr.loads:
-            gy = -load
-            for dx in pr.dxs:
-                r = fe.cylinder_tip(gy, dx, nu=nu, plane=plane)
-                assert set(r) == {"dh", "dv", "error_estimate", "err_dh", "err_dv"}
-                assert r["dv"] < 0.0 and r["dh"] < 0.0
-            end = fe.cylinder_tip(gy, nu=nu, plane=plane, point="end")
-            assert end["dv"] < fe.cylinder_tip(gy, pr.dxs[-1], nu=nu, plane=plane)["dv"]
+    for nu, plane, gy, end in assert_tip_reader_covers(pr, fe.cylinder_tip):
             # the cylinder's arc clamps the beam less far out than x = 0 at the
             # corners: it deflects more than the straight-clamp beam
             assert end["dv"] < fe.gravity_tip(gy, nu=nu, plane=plane, point="end")["dv"]
