@@ -57,11 +57,12 @@ namespace {
 constexpr double MATCH_TOL = 1.0e-6;
 // hash cells for matching, much larger than the tolerance
 constexpr double CELL_SIZE = 1.0e-4;
-constexpr int NPACK = 6;
+constexpr int NPACK = 6;    // atom ID, reference position, volume and mass per gathered atom
+// depths within this fraction of a layer index count as in the layer
+constexpr double LAYER_TOL = 1.0e-6;
 // the largest push of a plane into the body in one minimization, in
 // particle spacings: 0.4 reached a 10 % compression in 4 increments
-constexpr double MAX_PUSH_PER_MINIMIZE =
-    0.5;    // atom ID, reference position, volume and mass per gathered atom
+constexpr double MAX_PUSH_PER_MINIMIZE = 0.5;
 
 using CellKey = std::array<long long, 3>;
 
@@ -79,18 +80,8 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), fsource(nullptr), nmax(0)
 {
   if (narg < 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
-  if (strcmp(arg[3], "x") == 0)
-    axis = 0;
-  else if (strcmp(arg[3], "y") == 0)
-    axis = 1;
-  else if (strcmp(arg[3], "z") == 0)
-    axis = 2;
-  else
-    error->all(FLERR, 3, "Fix sph/mirror plane normal must be x, y or z, got {}", arg[3]);
-  if (axis == 2 && domain->dimension == 2)
-    error->all(FLERR, 3, "Fix sph/mirror plane normal z is not allowed in a 2d simulation");
-  plane = utils::numeric(FLERR, arg[4], false, lmp);
-  parse_keywords(5, narg, arg);
+  const int taken = surface.parse(lmp, "Fix sph/mirror", 3, narg, arg);
+  parse_keywords(3 + taken, narg, arg);
 
   comm_forward = 3;
   comm_reverse = 3;
@@ -99,16 +90,16 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
 }
 
 /* ----------------------------------------------------------------------
-   displace ux uy [uz]: prescribed displacement of the plane (constants or
-   v_name of equal-style variables); slip yes|no: tangential components
-   slide freely (symmetry plane) instead of being clamped
+   displace ux uy [uz]: prescribed displacement of the surface (constants
+   or v_name of equal-style variables); slip yes|no: tangential components
+   slide freely (symmetry surface) instead of being clamped
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
 {
   const int dim = domain->dimension;
   for (double &sign : mirror_sign) sign = -1.0;
-  bool slip = false;
+  slip = false;
   while (iarg < narg) {
     if (strcmp(arg[iarg], "slip") == 0) {
       if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "fix sph/mirror slip", error);
@@ -131,12 +122,20 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
       iarg += 1 + given;
     } else {
       error->all(FLERR, iarg,
-                 "Unknown fix sph/mirror keyword {}: after the plane come 'displace ux uy [uz]' "
+                 "Unknown fix sph/mirror keyword {}: after the surface come 'displace ux uy [uz]' "
                  "and 'slip yes|no'",
                  arg[iarg]);
     }
   }
-  if (slip) {
+  const int axis = surface.axis();
+  if (slip && axis < 0)
+    for (int a = 0; a < 3; a++)
+      if (disp.is_variable(a) || disp.value[a] != 0.0)
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Fix sph/mirror: displace with slip yes is for planes normal to x, y or z only; "
+                   "on {} the body slides along the surface",
+                   surface.describe());
+  if (slip && axis >= 0) {
     for (int a = 0; a < 3; a++)
       if (a != axis) {
         mirror_sign[a] = 1.0;
@@ -187,11 +186,13 @@ void FixSPHMirror::init()
                  "fix; unfix one of them",
                  id, other->id, group->names[igroup]);
   // across a periodic boundary the body would meet its own image, not a plane
-  if (domain->periodicity[axis])
-    error->all(FLERR, Error::NOLASTLINE,
-               "Fix {} sph/mirror: the plane is normal to {}, a periodic dimension; a mirror "
-               "plane bounds the body, so make that boundary non-periodic (boundary s or f)",
-               id, "xyz"[axis]);
+  for (int a = 0; a < domain->dimension; a++)
+    if (domain->periodicity[a] && surface.bounded_along(a))
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/mirror: {} is not invariant along {}, a periodic dimension; a "
+                 "mirror surface bounds the body, so make that boundary non-periodic (boundary s "
+                 "or f)",
+                 id, surface.describe(), "xyz"[a]);
   if (utils::strmatch(update->integrate_style, "^respa"))
     error->all(FLERR, Error::NOLASTLINE, "Fix sph/mirror does not support run_style respa");
   disp.resolve(lmp, fmt::format("fix {} sph/mirror displace", id));
@@ -227,12 +228,22 @@ void FixSPHMirror::setup_pre_force(int /*vflag*/)
 void FixSPHMirror::check_displacement_jump()
 {
   if (update->whichflag != 2 || layer_spacing <= 0.0) return;
-  const double push = (disp.value[axis] - applied[axis]) * body_side;
+  // along the normal for a plane; a cylinder or sphere is pushed into the
+  // body on one side by any translation
+  double push = 0.0;
+  if (surface.kind() == SPHElastic::MirrorSurface::PLANE) {
+    double n[3];
+    surface.normal(applied, n);
+    for (int a = 0; a < 3; a++) push += (disp.value[a] - applied[a]) * n[a] * body_side;
+  } else {
+    for (int a = 0; a < 3; a++) push += (disp.value[a] - applied[a]) * (disp.value[a] - applied[a]);
+    push = std::sqrt(push);
+  }
   const double limit = MAX_PUSH_PER_MINIMIZE * layer_spacing;
   if (push <= limit) return;
   const int steps = static_cast<int>(std::ceil(push / limit));
   error->all(FLERR, Error::NOLASTLINE,
-             "Fix {} sph/mirror pushes its plane {:.6g} into the body in one minimization, more "
+             "Fix {} sph/mirror pushes its surface {:.6g} into the body in one minimization, more "
              "than {} of the particle spacing {:.6g} next to it: its mirror atoms would start "
              "inside the body's first layers, inverted. Apply the displacement in {} increments of "
              "at most {:.6g} (a loop of minimize commands with 'displace v_u' and u growing)",
@@ -337,7 +348,11 @@ void FixSPHMirror::min_post_force(int /*vflag*/)
 /* ----------------------------------------------------------------------
    every rank gathers the mirrors and the candidate sources (non-mirror atoms
    no deeper than the deepest mirror) and matches them the same way, so the
-   mirror -> source map is identical everywhere and survives migration
+   mirror -> source map is identical everywhere and survives migration.
+   The image of a mirror atom is its source's reference position: the
+   mirror layers must be the body's first layers reflected across the
+   surface (lattice layers for a plane on a cell boundary; otherwise made
+   by create_sph_mirrors)
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::pair_up()
@@ -348,38 +363,50 @@ void FixSPHMirror::pair_up()
   double **x0 = atom->x0;
 
   double depth_max = 0.0, depth_min = std::numeric_limits<double>::max();
-  double side_mine = 0.0;    // +1 if the body lies at larger coordinates than the mirrors
+  double sides_mine[2] = {0.0, 0.0};    // mirror atoms at distance > 0, < 0
   bigint nmirror_mine = 0, nmirror_all;
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit) {
-      const double d = std::fabs(x0[i][axis] - plane);
-      if (x0[i][axis] != plane) side_mine = (x0[i][axis] < plane) ? 1.0 : -1.0;
-      depth_max = std::max(depth_max, d);
-      depth_min = std::min(depth_min, d);
+      const double phi = surface.signed_distance(x0[i]);
+      if (phi > 0.0) sides_mine[0] = 1.0;
+      if (phi < 0.0) sides_mine[1] = 1.0;
+      depth_max = std::max(depth_max, std::fabs(phi));
+      depth_min = std::min(depth_min, std::fabs(phi));
       nmirror_mine++;
     }
   MPI_Allreduce(&nmirror_mine, &nmirror_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   if (nmirror_all == 0)
     error->all(FLERR, Error::NOLASTLINE, "Fix {} sph/mirror: group {} has no atoms", id,
                group->names[igroup]);
-  double dmax, dmin;
+  double dmax, dmin, sides[2];
   MPI_Allreduce(&depth_max, &dmax, 1, MPI_DOUBLE, MPI_MAX, world);
   MPI_Allreduce(&depth_min, &dmin, 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(sides_mine, sides, 2, MPI_DOUBLE, MPI_MAX, world);
   if (dmin <= MATCH_TOL * dmax)
     error->all(FLERR, Error::NOLASTLINE,
-               "Fix {} sph/mirror: an atom of group {} lies on the mirror plane {} = {} (it would "
-               "be its own mirror image); hold such atoms with fix setforce or move the plane",
-               id, group->names[igroup], "xyz"[axis], plane);
-  const double tol = MATCH_TOL * dmin, cell = CELL_SIZE * dmin;
-  MPI_Allreduce(&side_mine, &body_side, 1, MPI_DOUBLE, MPI_MAX, world);
-  if (body_side == 0.0) MPI_Allreduce(&side_mine, &body_side, 1, MPI_DOUBLE, MPI_MIN, world);
-  layer_spacing = 2.0 * dmin;
+               "Fix {} sph/mirror: an atom of group {} lies on {} (it would be its own mirror "
+               "image); hold such atoms with fix setforce or move the surface",
+               id, group->names[igroup], surface.describe());
+  if (sides[0] > 0.0 && sides[1] > 0.0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: group {} has atoms on both sides of {}; the mirror atoms lie "
+               "behind the surface, the body in front of it",
+               id, group->names[igroup], surface.describe());
+  if (dmax >= surface.largest_depth())
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: group {} reaches {} from {}, as deep as its radius: inside it "
+               "no point has a mirror image there; make the group thinner than the radius",
+               id, group->names[igroup], dmax, surface.describe());
+  body_side = (sides[0] > 0.0) ? -1.0 : 1.0;
+  // lattice layers mirrored across a plane of their cell boundaries lie
+  // at odd multiples of dmin: the matching tolerance keeps to that scale
+  const double tol = MATCH_TOL * (surface.axis() >= 0 ? dmin : dmax);
+  const double cell = CELL_SIZE * (surface.axis() >= 0 ? dmin : dmax);
   warn_if_atoms_behind(dmax + tol);
 
   // atoms of every mirror group (this one's and other fixes') are no
   // sources: a mirror of a mirror is not supported
   auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
-  if (pair) warn_if_thin(dmin, dmax, pair->get_kernel().support());
   const int other_mirrors = pair ? (pair->mirror_groups() & ~groupbit) : 0;
   std::vector<double> mirrors_mine, cands_mine;
   for (int i = 0; i < nlocal; i++) {
@@ -387,16 +414,22 @@ void FixSPHMirror::pair_up()
     if (mirror && (mask[i] & other_mirrors))
       error->one(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/mirror: atom {} belongs to the groups of two sph/mirror fixes; where "
-                 "two mirror planes meet, leave the corner empty",
+                 "two mirror surfaces meet, leave the corner empty",
                  id, tag[i]);
     if (!mirror && (mask[i] & other_mirrors)) continue;
-    if (!mirror && std::fabs(x0[i][axis] - plane) > dmax + tol) continue;
+    if (!mirror && std::fabs(surface.signed_distance(x0[i])) > dmax + tol) continue;
     auto &dest = mirror ? mirrors_mine : cands_mine;
     dest.insert(dest.end(),
                 {(double) tag[i], x0[i][0], x0[i][1], x0[i][2], atom->vfrac[i], atom->rmass[i]});
   }
   const auto mirrors = SPHElastic::gather_all(mirrors_mine, world);
   const auto cands = SPHElastic::gather_all(cands_mine, world);
+  // off a lattice plane the mirror-source distance 2 dmin can be any
+  // fraction of the spacing: the sources' own spacing then
+  layer_spacing = (surface.axis() >= 0) ? 2.0 * dmin
+                                        : SPHElastic::nearest_distance(cands, NPACK, 1, dmax);
+  warn_if_not_layered(mirrors, dmin);
+  if (pair) warn_if_thin(dmax, pair->get_kernel().support());
 
   std::map<CellKey, std::vector<int>> cells;
   for (int c = 0; c < (int) cands.size() / NPACK; c++)
@@ -405,8 +438,8 @@ void FixSPHMirror::pair_up()
   source.clear();
   for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
     const auto gtag = (tagint) mirrors[g * NPACK];
-    double want[3] = {mirrors[g * NPACK + 1], mirrors[g * NPACK + 2], mirrors[g * NPACK + 3]};
-    want[axis] = 2.0 * plane - want[axis];
+    double want[3];
+    surface.reflect(&mirrors[g * NPACK + 1], want);
     const CellKey centre = cell_of(want, cell);
     tagint found = -1;
     int found_at = -1;
@@ -430,12 +463,14 @@ void FixSPHMirror::pair_up()
       error->all(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
                  "no source at ({}, {}, {}); the group must be the mirror image of the body's "
-                 "first layers across {} = {} (atoms of another sph/mirror group cannot be "
-                 "sources)",
+                 "first layers across {} (lattice layers only for a plane on lattice cell "
+                 "boundaries; otherwise make them with create_sph_mirrors; atoms of another "
+                 "sph/mirror group cannot be sources)",
                  id, gtag, group->names[igroup], mirrors[g * NPACK + 1], mirrors[g * NPACK + 2],
-                 mirrors[g * NPACK + 3], want[0], want[1], want[2], "xyz"[axis], plane);
+                 mirrors[g * NPACK + 3], want[0], want[1], want[2], surface.describe());
     source[gtag] = found;
-    copy_volume(gtag, cands[found_at * NPACK + 4], cands[found_at * NPACK + 5]);
+    const double ratio = surface.volume_ratio(&cands[found_at * NPACK + 1]);
+    copy_volume(gtag, ratio * cands[found_at * NPACK + 4], ratio * cands[found_at * NPACK + 5]);
   }
   comm_what = COMM_VOLUME;
   comm->forward_comm(this);
@@ -443,9 +478,38 @@ void FixSPHMirror::pair_up()
 }
 
 /* ----------------------------------------------------------------------
-   atoms of the mirrors' body on the mirror side of the plane but outside
-   the group (a group that stops short of the plane) act as body beyond
-   the clamp, with mirror atoms behind them: the clamp is not at the plane
+   the first layer's volumes end at the surface only if the particles lie
+   in layers parallel to it, half a spacing from it (a lattice plane on a
+   cell boundary, polar layers about a cylinder's axis): mirror depths at
+   odd multiples of the smallest.  A lattice cut at a slant or by a curve
+   puts its rows' last particles anywhere between 0 and a spacing from
+   the surface, and the energy's quadrature there is first order
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::warn_if_not_layered(const std::vector<double> &mirrors, double dmin)
+{
+  if (layers_warned) return;
+  for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
+    const double depth = std::fabs(surface.signed_distance(&mirrors[g * NPACK + 1]));
+    const double layer = 0.5 * (depth / dmin - 1.0);
+    if (std::fabs(layer - std::round(layer)) <= LAYER_TOL * (1.0 + layer)) continue;
+    layers_warned = true;
+    if (comm->me == 0)
+      error->warning(FLERR,
+                     "Fix {} sph/mirror: the particles do not lie in layers parallel to {} "
+                     "(mirror atom {} is {:.6g} deep, not an odd multiple of the first layer's "
+                     "{:.6g}): the volumes next to the clamp do not end at the surface, and the "
+                     "clamp is only first order. Lay the body out in layers parallel to the "
+                     "surface (polar layers for a cylinder, see examples/lame)",
+                     id, surface.describe(), (tagint) mirrors[g * NPACK], depth, dmin);
+    return;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   atoms of the mirrors' body on the mirror side of the surface but outside
+   the group (a group that stops short of the surface) act as body beyond
+   the clamp, with mirror atoms behind them: the clamp is not at the surface
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::warn_if_atoms_behind(double reach)
@@ -464,7 +528,7 @@ void FixSPHMirror::warn_if_atoms_behind(double reach)
   bigint behind = 0, behind_all = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (mask[i] & mirrorbits) continue;
-    const double beyond = (plane - x0[i][axis]) * body_side;    // > 0 on the mirror side
+    const double beyond = -surface.signed_distance(x0[i]) * body_side;    // > 0 behind it
     if (beyond > 0.0 && beyond <= reach && molecule[i] >= bodies_all[0] &&
         molecule[i] <= -bodies_all[1])
       behind++;
@@ -472,11 +536,10 @@ void FixSPHMirror::warn_if_atoms_behind(double reach)
   MPI_Allreduce(&behind, &behind_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   if (behind_all > 0 && comm->me == 0)
     error->warning(FLERR,
-                   "Fix {} sph/mirror: {} atoms of the body lie beyond the plane {} = {}, among "
-                   "the mirror atoms, but are not in group {}: they act as body beyond the clamp. "
-                   "Put every atom beyond the plane into the group (e.g. a region ending at the "
-                   "plane)",
-                   id, behind_all, "xyz"[axis], plane, group -> names[igroup]);
+                   "Fix {} sph/mirror: {} atoms of the body lie beyond {}, among the mirror "
+                   "atoms, but are not in group {}: they act as body beyond the clamp. Put every "
+                   "atom beyond the surface into the group (e.g. a region ending at it)",
+                   id, behind_all, surface.describe(), group->names[igroup]);
 }
 
 int FixSPHMirror::mirror_groups_of_all_fixes() const
@@ -487,23 +550,24 @@ int FixSPHMirror::mirror_groups_of_all_fixes() const
 }
 
 /* ----------------------------------------------------------------------
-   the particles next to the plane (depth dmin on the body's side) have
-   partners down to depth support - dmin on the mirror side.  On a lattice
-   whose layers are 2 dmin apart, a group that stops one layer or more short
-   of that leaves them without mirror partners: the clamp is too soft.
+   the particles next to the surface have partners down to a kernel
+   support behind it less their own depth.  A group that stops a layer or
+   more short of that leaves them without mirror partners: the clamp is
+   too soft.  (On a lattice plane the first layer is half a spacing deep.)
 ------------------------------------------------------------------------- */
 
-void FixSPHMirror::warn_if_thin(double dmin, double dmax, double support)
+void FixSPHMirror::warn_if_thin(double dmax, double support)
 {
-  if (thin_warned || dmax + 3.0 * dmin >= support) return;
+  if (thin_warned || dmax + 1.5 * layer_spacing >= support) return;
   thin_warned = true;
   if (comm->me == 0)
     error->warning(FLERR,
-                   "Fix {} sph/mirror: the mirror atoms reach {:.6g} beyond the plane, but the "
-                   "particles next to it have partners down to {:.6g} (the kernel support 2h = "
-                   "{:.6g} less their distance to the plane): they miss mirror partners and the "
-                   "clamp is too soft; make group {} as thick as the kernel support",
-                   id, dmax, support - dmin, support, group->names[igroup]);
+                   "Fix {} sph/mirror: the mirror atoms reach {:.6g} behind {}, but the particles "
+                   "next to it have partners down to about {:.6g} (the kernel support 2h = {:.6g} "
+                   "less their distance to it): they miss mirror partners and the clamp is too "
+                   "soft; make group {} as thick as the kernel support",
+                   id, dmax, surface.describe(), support - 0.5 * layer_spacing, support,
+                   group->names[igroup]);
 }
 
 /* ----------------------------------------------------------------------
@@ -555,9 +619,37 @@ int FixSPHMirror::local_source(int i) const
 }
 
 /* ----------------------------------------------------------------------
-   x_mirror = X_mirror + 2 u0 - u_source along the odd (clamped) axes and
-   X_mirror + u_source along the sliding ones, kept next to the mirror's
-   current periodic copy; then the new positions go to the mirrors' ghosts
+   T = d x_mirror / d x_source: -1 for a clamp; I - 2 n n^T, n the
+   surface's normal on the line through mirror and source, for a slip
+   surface (diagonal for a plane normal to x, y or z)
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::tie(const double *Xm, double T[3][3]) const
+{
+  double n[3] = {0.0, 0.0, 0.0};
+  const bool general = !diagonal_ties();
+  if (general) surface.normal(Xm, n);
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++)
+      T[a][b] = general ? (a == b ? 1.0 : 0.0) - 2.0 * n[a] * n[b]
+                        : (a == b ? mirror_sign[a] : 0.0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHMirror::reflect_vector(const double *Xm, double *c) const
+{
+  double n[3];
+  surface.normal(Xm, n);
+  const double along = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
+  for (int a = 0; a < 3; a++) c[a] -= 2.0 * along * n[a];
+}
+
+/* ----------------------------------------------------------------------
+   x_mirror = X_mirror + T u_source + (I - T) u0: 2 u0 - u_source for a
+   clamp, the source's tangential displacement for a slip surface; kept
+   next to the mirror's current periodic copy.  Then the new positions go
+   to the mirrors' ghosts
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::place_mirrors(const double *u0)
@@ -575,12 +667,16 @@ void FixSPHMirror::place_mirrors(const double *u0)
   for (int i = 0; i < nlocal; i++)
     if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
 
+  double T[3][3];
   for (const auto &[i, j] : links) {
     double u[3] = {x[j][0] - x0[j][0], x[j][1] - x0[j][1], x[j][2] - x0[j][2]};
     domain->minimum_image(u);
+    tie(x0[i], T);
     double shift[3];
-    for (int a = 0; a < 3; a++)
-      shift[a] = x0[i][a] + (mirror_sign[a] < 0.0 ? 2.0 * u0[a] - u[a] : u[a]) - x[i][a];
+    for (int a = 0; a < 3; a++) {
+      shift[a] = x0[i][a] + u0[a] - x[i][a];
+      for (int b = 0; b < 3; b++) shift[a] += T[a][b] * (u[b] - u0[b]);
+    }
     domain->minimum_image(shift);
     for (int a = 0; a < 3; a++) {
       x[i][a] += shift[a];
@@ -591,9 +687,8 @@ void FixSPHMirror::place_mirrors(const double *u0)
 }
 
 /* ----------------------------------------------------------------------
-   along an odd axis the mirror moves by minus its source's displacement,
-   so the force on the mirror acts on the source with the opposite sign
-   (the same sign along a sliding axis); the mirror keeps none
+   the mirror moves by T times its source's displacement, so the force on
+   the mirror acts on the source as T^T f; the mirror keeps none
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::hand_over_forces()
@@ -607,11 +702,14 @@ void FixSPHMirror::hand_over_forces()
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
 
   double **f = atom->f;
-  for (const auto &[i, j] : links)
-    for (int a = 0; a < 3; a++) {
-      fsource[j][a] += mirror_sign[a] * f[i][a];
-      f[i][a] = 0.0;
-    }
+  double **x0 = atom->x0;
+  double T[3][3];
+  for (const auto &[i, j] : links) {
+    tie(x0[i], T);
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) fsource[j][b] += T[a][b] * f[i][a];
+    for (int a = 0; a < 3; a++) f[i][a] = 0.0;
+  }
   comm->reverse_comm(this);
   for (int i = 0; i < atom->nlocal; i++)
     for (int a = 0; a < 3; a++) f[i][a] += fsource[i][a];

@@ -22,6 +22,7 @@ FixStyle(sph/mirror,FixSPHMirror);
 
 #include "fix.h"
 #include "sph_elastic_values.h"
+#include "sph_mirror_surface.h"
 
 #include <cmath>
 #include <map>
@@ -35,9 +36,10 @@ namespace LAMMPS_NS {
    odd-mirror clamp for pair sph/icb: each atom of the group (a mirror
    atom) follows the body atom at its mirrored reference position (its
    source) with 2 u0 minus that atom's displacement, so the displacement
-   is u0 on the plane (0 unless 'displace' is given).  With 'slip yes'
+   is u0 on the surface (0 unless 'displace' is given).  With 'slip yes'
    only the normal component is mirrored that way and the tangential ones
-   are copied: a symmetry plane on which the body slides freely.  Mirror
+   are copied: a symmetry surface on which the body slides freely.  The
+   surface is a plane of any orientation, a cylinder or a sphere.  Mirror
    atoms carry no strain energy; the forces on them are handed to their
    sources (chain rule of the constraint), their own f and v are zero.
 ------------------------------------------------------------------------- */
@@ -62,12 +64,19 @@ class FixSPHMirror : public Fix {
   double memory_usage() override;
   // mirror atom ID -> source atom ID, the same on every rank
   const std::map<tagint, tagint> &mirror_sources() const { return source; }
-  // d x_mirror / d x_source along each axis: -1 (odd) or +1 (slip, tangential)
+  // d x_mirror / d x_source along each axis: -1 (odd) or +1 (slip, tangential);
+  // only for diagonal ties (a clamp, or a plane normal to x, y or z)
   double sign(int a) const { return mirror_sign[a]; }
-  // the plane: its normal axis (0, 1, 2) and reference position
-  int plane_axis() const { return axis; }
-  double plane_position() const { return plane; }
-  // the size of the plane's prescribed displacement as last applied
+  bool diagonal_ties() const { return !slip || surface.axis() >= 0; }
+  // the tie T = d x_mirror / d x_source of the mirror atom at reference Xm
+  void tie(const double *Xm, double T[3][3]) const;
+  // a vector at the mirror atom at reference Xm reflected to its source:
+  // its component along the surface's normal reversed, the others kept
+  void reflect_vector(const double *Xm, double *c) const;
+  // a plane normal to x, y, z: 0, 1, 2 and its position; -1 otherwise
+  int plane_axis() const { return surface.axis(); }
+  double plane_position() const { return surface.position(); }
+  // the size of the surface's prescribed displacement as last applied
   double displacement_size() const
   {
     return std::sqrt(disp.value[0] * disp.value[0] + disp.value[1] * disp.value[1] +
@@ -77,20 +86,21 @@ class FixSPHMirror : public Fix {
   int local_source(int i) const;
 
  private:
-  int axis;                           // normal of the mirror plane: 0, 1, 2 = x, y, z
-  double plane;                       // its position (reference coordinates)
-  double mirror_sign[3];              // -1 odd (clamped) component, +1 even (sliding)
-  SPHElastic::EqualValues disp;       // prescribed displacement u0 of the plane
-  std::map<tagint, tagint> source;    // mirror atom ID -> source atom ID (all, on every rank)
-  double **fsource;                   // forces handed to sources, owned + ghost atoms
+  SPHElastic::MirrorSurface surface;    // what the body is mirrored across
+  bool slip = false;                    // the tangential components slide
+  double mirror_sign[3];                // diagonal ties: -1 odd (clamped), +1 sliding
+  SPHElastic::EqualValues disp;         // prescribed displacement u0 of the plane
+  std::map<tagint, tagint> source;      // mirror atom ID -> source atom ID (all, on every rank)
+  double **fsource;                     // forces handed to sources, owned + ghost atoms
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
   int nmax;
   enum { COMM_POSITION, COMM_VOLUME };
   int comm_what;    // what forward comm carries
 
   void parse_keywords(int, int, char **);
-  void warn_if_thin(double dmin, double dmax, double support);
+  void warn_if_thin(double dmax, double support);
   bool thin_warned = false;
+  bool layers_warned = false;
   void pair_up();
   void copy_volume(tagint, double, double);
   void place_mirrors(const double *u0);
@@ -101,8 +111,10 @@ class FixSPHMirror : public Fix {
   void warn_if_atoms_behind(double reach);
   int mirror_groups_of_all_fixes() const;
   double applied[3] = {0.0, 0.0, 0.0};    // the plane's displacement where the mirrors are
-  double body_side = 0.0;                 // +1: the body lies at larger coordinates
-  double layer_spacing = 0.0;             // between the plane's nearest layers
+  double body_side = 0.0;                 // +1: the body lies where the distance is > 0
+  double layer_spacing = 0.0;             // the particle spacing next to the surface
+
+  void warn_if_not_layered(const std::vector<double> &mirrors, double dmin);
 };
 
 }    // namespace LAMMPS_NS

@@ -28,6 +28,7 @@
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
+#include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -671,6 +672,8 @@ void FixSPHPartners::compute_corrections()
   const int dim = domain->dimension;
   const int nbasis = basis_size(dim, order);
   const double hinv = 1.0 / kernel.h;
+  const auto *icb = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  const int mirrorbits = icb ? icb->mirror_groups() : 0;
 
   if (atom->nmax > nmax_lcorr) {
     memory->destroy(lcorr);
@@ -704,14 +707,23 @@ void FixSPHPartners::compute_corrections()
         for (int b = 0; b < nbasis; b++) moment(a, b) += weight * p[a] * p[b];
     }
 
+    // a mirror atom carries no energy (only the hourglass control reads its
+    // gradients): at the edge of a clamp's images, where the quadratic fit
+    // has too few partners, the linear one (the first d basis functions) will do
+    int nfit = nbasis;
     Eigen::LLT<MomentMatrix> llt(moment);
+    if ((llt.info() != Eigen::Success || !(llt.rcond() > SINGULAR_TOL)) &&
+        (atom->mask[i] & mirrorbits) && nbasis > dim) {
+      nfit = dim;
+      llt.compute(moment.topLeftCorner(dim, dim));
+    }
     if (llt.info() != Eigen::Success || !(llt.rcond() > SINGULAR_TOL)) explain_singular_fit(i);
     // first d rows of A^-1, divided by h to undo the scaling of the offsets
-    const MomentMatrix inverse = llt.solve(MomentMatrix::Identity(nbasis, nbasis));
+    const MomentMatrix inverse = llt.solve(MomentMatrix::Identity(nfit, nfit));
     double *l = lcorr[i];
     for (int a = 0; a < NCORR; a++) l[a] = 0.0;
     for (int a = 0; a < dim; a++)
-      for (int b = 0; b < nbasis; b++) l[a * MAXBASIS + b] = inverse(a, b) * hinv;
+      for (int b = 0; b < nfit; b++) l[a * MAXBASIS + b] = inverse(a, b) * hinv;
   }
 
   // ghosts need their own correction for g_ji

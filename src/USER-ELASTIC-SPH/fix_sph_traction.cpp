@@ -532,14 +532,13 @@ void FixSPHTraction::build_coefficients()
     consistent_area(i, jl, b);
     for (int a = 0; a < 3; a++) c[a] = (axis >= 0) ? -w * normal[axis] * b[axis] : b[a];
     // a mirror atom's share is the area of the body's surface mirrored
-    // across the plane: it reaches the source reflected, its component
-    // along the plane's normal reversed and the others kept.  For a
+    // across the mirror surface: it reaches the source reflected, its
+    // component along the surface's normal reversed and the others kept.  For a
     // symmetry plane (slip) these are the hand-over's own signs.  With a
     // clamp's (all reversed) the share of a face meeting the clamp was
     // taken off instead of added: 0.28 spacings of the face's load short,
     // a first-order load error
-    if (owner)
-      for (int a = 0; a < 3; a++) c[a] *= (a == owner->plane_axis()) ? -1.0 : 1.0;
+    if (owner) owner->reflect_vector(atom->x0[i], c);
     const tagint target = tag[source];
     const double size = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     share[takes ? 0 : 1] += size;

@@ -80,6 +80,13 @@ void NewtonDofs::find(int vflag)
   std::unordered_map<tagint, const FixSPHMirror *> fix_of;
   for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
     const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    // a slip surface that is no x, y or z plane ties each mirror coordinate
+    // to all of its source's: not a signed copy of one
+    if (!mirror->diagonal_ties())
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Min_style sph/newton does not support fix {} sph/mirror with slip yes on a "
+                 "surface other than an x, y or z plane; use min_style cg (or a clamp)",
+                 fix->id);
     for (const auto &[m, s] : mirror->mirror_sources()) {
       source_of[m] = s;
       mirrors_of[s].emplace_back(m, mirror);
