@@ -455,3 +455,23 @@ def lame_cylinder(r: float, a: float, b: float, E: float, nu: float, plane: str,
     else:
         eps_tt = (1.0 + nu) / E * ((1.0 - nu) * stt - nu * srr)
     return r * eps_tt, srr, stt
+
+
+def clamped_cylinder(r: float, a: float, b: float, E: float, nu: float, plane: str,
+                     p_out: float) -> tuple[float, float, float]:
+    """(u_r, sigma_rr, sigma_tt) at radius r of a thick-walled cylinder a < r < b
+    clamped on its inner surface (u_r(a) = 0) under a pressure p_out outside,
+    small strain: u_r = C (r - a^2/r), so that
+        sigma_rr = 2 (lam + mu) C + 2 mu C a^2/r^2,  sigma_tt = 2 (lam + mu) C - 2 mu C a^2/r^2,
+    with sigma_rr(b) = -p_out; lam is Lame's first parameter in plane strain
+    and 2 lam mu/(lam + 2 mu) in plane stress."""
+    if plane not in ("stress", "strain"):
+        raise ValueError(f"plane must be 'stress' or 'strain', not {plane!r}")
+    mu = E / (2.0 * (1.0 + nu))
+    lam = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    if plane == "stress":
+        lam = 2.0 * lam * mu / (lam + 2.0 * mu)
+    C = -p_out / (2.0 * (lam + mu) + 2.0 * mu * a * a / (b * b))
+    srr = 2.0 * (lam + mu) * C + 2.0 * mu * C * a * a / (r * r)
+    stt = 2.0 * (lam + mu) * C - 2.0 * mu * C * a * a / (r * r)
+    return C * (r - a * a / r), srr, stt

@@ -349,14 +349,18 @@ TABLE7_NW = {False: (10, 20), True: (10, 20, 40)}
 LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
 
 
-def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1) -> dict:
+def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1, support: str = "pins") -> dict:
     """examples/lame at nw layers: its wall time, atoms and the relative
     errors of the radial displacement and hoop stress of the innermost and
-    outermost layers against Lame's solution at their radii."""
+    outermost layers against Lame's solution at their radii.  support
+    'clamp': the whole ring clamped on r = a (fix sph/mirror on the
+    cylinder) and pressurised outside, against theory.clamped_cylinder."""
     from .problems import LAME
     from .runner import run_mpi, run_script
     g = LAME_GEOMETRY
     variables = {"nw": nw, "model": model, "plane": plane}
+    if support == "clamp":
+        variables.update(support="clamp", side="outer")
     names = ["ur_in", "ur_out", "stt_in", "stt_out", "natoms_body"]
     out = (run_script(LAME, variables, read=names) if nprocs == 1
            else run_mpi(LAME, variables, nprocs))
@@ -364,7 +368,12 @@ def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1) -> dict:
     row = {"nw": nw, "model": model, "plane": plane, "atoms": int(out.variables["natoms_body"]),
            "wall": out.wall}
     for side, r in (("in", g["a"] + 0.5 * dr), ("out", g["b"] - 0.5 * dr)):
-        ur, _, stt = theory.lame_cylinder(r, g["a"], g["b"], g["E"], g["nu"], plane, p_in=g["p"])
+        if support == "clamp":
+            ur, _, stt = theory.clamped_cylinder(r, g["a"], g["b"], g["E"], g["nu"], plane,
+                                                 p_out=g["p"])
+        else:
+            ur, _, stt = theory.lame_cylinder(r, g["a"], g["b"], g["E"], g["nu"], plane,
+                                              p_in=g["p"])
         row[f"ur_{side}"] = out.variables[f"ur_{side}"] / ur - 1.0
         row[f"stt_{side}"] = out.variables[f"stt_{side}"] / stt - 1.0
     return row
@@ -377,20 +386,26 @@ def table7(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
     against the exact small-strain solution."""
     g = LAME_GEOMETRY
     print(f"\nTable 7 (ICB, defaults): Lame's thick-walled cylinder, a = {g['a']:g}, b = {g['b']:g} m, "
-          f"nu = {g['nu']:g}, inner pressure p/E = {g['p'] / g['E']:g}; relative errors of the "
-          "layer means of u_r and sigma_tt at r = a + dr/2 and b - dr/2 against Lame's solution "
-          "there, q = observed order")
+          f"nu = {g['nu']:g}, inner pressure p/E = {g['p'] / g['E']:g} (full: pinned; quarter: two "
+          "symmetry planes); clamped: clamped on r = a by fix sph/mirror on the cylinder, the "
+          "same pressure outside; relative errors of the layer means of u_r and sigma_tt at "
+          "r = a + dr/2 and b - dr/2 against the exact solution there, q = observed order")
     rows = []
     cols = ["u_r(a+)", "u_r(b-)", "stt(a+)", "stt(b-)"]
     head = f"{'plane':>6} {'model':>7} {'nw':>3} {'atoms':>6} | " + " | ".join(
         f"{c:>9} {'q':>5}" for c in cols) + f" | {'wall[s]':>7}"
     print_head(head)
     for plane in ("strain", "stress"):
-        for model in ("full", "quarter"):
+        for model in ("full", "quarter", "clamped"):
             series = []
             for nw in TABLE7_NW[full]:
                 progress(f"[esph] lame {model}, plane {plane}, {nw} layers ...")
-                series.append(lame_errors(nw, model, plane, nprocs))
+                if model == "clamped":
+                    row = lame_errors(nw, "full", plane, nprocs, support="clamp")
+                    row["model"] = model
+                else:
+                    row = lame_errors(nw, model, plane, nprocs)
+                series.append(row)
             dxs = [1.0 / r["nw"] for r in series]
             orders = {k: order([r[k] for r in series], dxs)
                       for k in ("ur_in", "ur_out", "stt_in", "stt_out")}

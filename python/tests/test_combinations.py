@@ -205,7 +205,7 @@ def test_platen_pushed_too_far_in_one_minimisation_is_refused_with_the_increment
     rc, out = run_lmp(PLATEN.format(u=-0.0016, iterations=20), tmp_path, timeout=120)
     assert rc != 0
     err = error_line(out)
-    assert "Fix r sph/mirror pushes its plane 0.0016 into the body in one minimization" in err
+    assert "Fix r sph/mirror pushes its surface 0.0016 into the body in one minimization" in err
     assert "in 4 increments of at most 0.0004" in err
     stepped = PLATEN.format(u="v_u", iterations=20).replace(
         "fix r right", "variable k loop 4\nvariable u equal -0.0004*v_k\nfix r right").replace(

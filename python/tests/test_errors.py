@@ -64,7 +64,7 @@ CASES = [
     ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\n"
      "compute c all sph/elastic/atom strain\nrun 0", "strain needs a total-Lagrangian pair style"),
     ("fix m all sph/mirror x", "Illegal fix sph/mirror command"),
-    ("fix m all sph/mirror w 0.0", "plane normal must be x, y or z, got w"),
+    ("fix m all sph/mirror w 0.0", "the surface must be x|y|z <position>, 'plane px py pz nx ny nz'"),
     ("fix m all sph/mirror z 0.0", "plane normal z is not allowed in a 2d"),
     ("fix m all sph/mirror x zero", "Expected floating point parameter"),
     ("pair_style sph/ccb 0.0012 thickness 1e-3\npair_coeff * * 1e9 0.3\nfix i all sph/ccb/nve\n"
@@ -72,9 +72,31 @@ CASES = [
      "fix m g sph/mirror x 0.0\nrun 0", "Fix sph/mirror requires pair_style sph/icb"),
     (ICB + "group g empty\nfix m g sph/mirror x 0.0\nrun 0", "sph/mirror: group g has no atoms"),
     (ICB + "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
-     "fix m g sph/mirror x 0.0005\nrun 0", "lies on the mirror plane x = 0.0005"),
+     "fix m g sph/mirror x 0.0005\nrun 0", "lies on the plane x = 0.0005"),
     (ICB + "region r block 0 1 INF INF INF INF units lattice\ngroup g region r\n"
      "fix m g sph/mirror x 0.0\nrun 0", "at reference position (0.0005, 0.0005, 0) has no"),
+    # clamps on inclined and curved surfaces (issue 32)
+    ("fix m all sph/mirror sphere 0 0 0 1", "a sphere is for 3d; in 2d use 'cylinder z cx cy R'"),
+    ("fix m all sph/mirror cylinder x 0 0 1", "in 2d a cylinder's axis must be z"),
+    ("fix m all sph/mirror cylinder z 0 0 -1", "the cylinder's radius must be > 0"),
+    ("fix m all sph/mirror plane 0 0 0 0 0 0", "the plane's normal is zero"),
+    ("fix m all sph/mirror plane 0 0 0 1 1 0 slip yes displace 0.001 0",
+     "displace with slip yes is for planes normal to x, y or z only"),
+    ("create_sph_mirrors all all x 0.0", "the mirror group must be a new group"),
+    ("create_sph_mirrors all m x 0.0", "needs 'depth D'"),
+    (ICB + "create_sph_mirrors all m x 0.0 depth -1", "depth must be > 0"),
+    (ICB + "create_sph_mirrors all m x 0.0 colour red", "Unknown create_sph_mirrors keyword colour"),
+    (ICB + "create_sph_mirrors all m cylinder z 0.003 0.002 0.0015 depth 0.001",
+     "on both sides of the cylinder about z"),
+    (ICB + "create_sph_mirrors all m cylinder z -0.001 0.002 0.001 depth 0.0015",
+     "reaches beyond the centre"),
+    (ICB + "region r block INF 0.003 INF INF INF INF units box\ngroup left region r\n"
+     "create_sph_mirrors left m x 0.003 depth 0.002", "already lie behind the plane x = 0.003"),
+    (ICB + "create_sph_mirrors all m plane 0 0 0 1 0.2 0 depth 0.0025\n"
+     "fix s m sph/mirror plane 0 0 0 1 0.2 0 slip yes\nmin_style sph/newton\n"
+     "minimize 0 1e-8 10 100", "does not support fix s sph/mirror with slip yes"),
+    (ICB + "create_sph_mirrors all m plane 0 0 0 1 0.2 0 depth 0.0025\n"
+     "fix s m sph/mirror cylinder z 0 0 0.001\nrun 0", "has no source at"),
     ("fix c all sph/contact", "Illegal fix sph/contact command"),
     ("fix c all sph/contact -0.001", "contact distance dx must be > 0"),
     ("fix c all sph/contact 0.001 thickness 0", "thickness must be > 0"),

@@ -36,6 +36,43 @@ def test_lame_cylinder_converges_to_the_exact_displacement(model):
     assert abs(fine["stt_out"]) < 3e-3
 
 
+def test_clamped_solution_holds_its_conditions():
+    """u_r(a) = 0, sigma_rr(b) = -p, and equilibrium d(r sigma_rr)/dr = sigma_tt."""
+    g = LAME_GEOMETRY
+    a, b, p = g["a"], g["b"], g["p"]
+    for plane in ("strain", "stress"):
+        u_a, _, _ = theory.clamped_cylinder(a, a, b, g["E"], g["nu"], plane, p_out=p)
+        u_b, srr_b, _ = theory.clamped_cylinder(b, a, b, g["E"], g["nu"], plane, p_out=p)
+        assert abs(u_a) < 1e-14 * abs(u_b) and srr_b == pytest.approx(-p)
+        r, d = 0.07, 1e-6
+        rs = [x * theory.clamped_cylinder(x, a, b, g["E"], g["nu"], plane, p_out=p)[1]
+              for x in (r - d, r + d)]
+        stt = theory.clamped_cylinder(r, a, b, g["E"], g["nu"], plane, p_out=p)[2]
+        assert (rs[1] - rs[0]) / (2 * d) == pytest.approx(stt, rel=1e-6)
+
+
+def test_ring_clamped_on_its_curved_inner_surface_converges_at_second_order():
+    """Issue 32: a clamp on a cylinder (fix sph/mirror cylinder with the
+    images of create_sph_mirrors) keeps the scheme's second order.  With only
+    two image layers set_sph_volumes corrected the body's first layer as if
+    r = a were free, and the ring converged at first order (-0.16 / -0.13 /
+    -0.074 % at r = b)."""
+    coarse, fine = (lame_errors(nw, "full", "strain", support="clamp") for nw in (10, 20))
+    assert abs(coarse["ur_out"]) < 2.5e-3 and abs(fine["ur_out"]) < 6e-4
+    assert abs(coarse["ur_out"]) > 3.5 * abs(fine["ur_out"])    # order >= 1.8
+    # u_r of the first layer is itself O(dr): its relative error halves
+    assert abs(fine["ur_in"]) < 0.04
+    assert abs(coarse["ur_in"]) > 1.8 * abs(fine["ur_in"])
+
+
+def test_clamped_ring_is_the_same_on_two_ranks():
+    serial = lame_errors(10, "full", "strain", support="clamp")
+    parallel = lame_errors(10, "full", "strain", nprocs=2, support="clamp")
+    for key in ("ur_in", "ur_out", "stt_in", "stt_out"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-6, abs=1e-9)
+    assert parallel["atoms"] == serial["atoms"]
+
+
 def test_a_force_tolerance_below_round_off_ends_at_the_floor(tmp_path):
     """At p/E = 1e-7 the strains are 2e-7, and a force tolerance of 1e-12 of
     the load lies below what double precision resolves.  Newton's steps there

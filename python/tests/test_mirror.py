@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps, restart_round_trip
+from conftest import make_lammps, restart_round_trip, run_lmp
 from esph.beam import BeamCase, run_beam
 from esph.runner import run_mpi
 
@@ -226,3 +226,88 @@ def test_mirror_clamp_removes_the_clamp_error_of_the_coarse_beam():
     assert 0.0 < mirror.error_dv < 0.05
     assert fixed.error_dv - mirror.error_dv > 0.04
     assert damped.dv == pytest.approx(mirror.dv, rel=1e-3)
+
+
+def tilted_clamp_script(mode: str, tilt: float = 0.0) -> str:
+    """A 2d cantilever 0.2 x 0.02 m (dx = 2 mm) under its own weight, clamped
+    on x = 0 by lattice mirror columns ('lattice') or by the images of
+    create_sph_mirrors across the plane through the origin with normal
+    (1, tilt) ('created'); volumes without surface correction (the images
+    of a tilted plane are off the lattice)."""
+    body = ("region domain block -3 100 0 10 -0.5 0.5 units lattice" if mode == "lattice"
+            else "region domain block 0 100 0 10 -0.5 0.5 units lattice")
+    if mode == "lattice":
+        mirrors = ("region clampzone block INF 0.0 INF INF INF INF units box\n"
+                   "group clamp region clampzone\ngroup body subtract all clamp\n"
+                   "set_sph_volumes all lattice 0.002 thickness 0.001 density 1000 "
+                   "correction none\n")
+        clamp = "fix hold clamp sph/mirror x 0.0"
+    else:
+        mirrors = ("group body union all all\n"
+                   "set_sph_volumes body lattice 0.002 thickness 0.001 density 1000 "
+                   "correction none\n"
+                   f"create_sph_mirrors body clamp plane 0 0 0 1 {tilt} 0 depth 0.0052\n")
+        clamp = f"fix hold clamp sph/mirror plane 0 0 0 1 {tilt} 0"
+    return f"""
+units si
+dimension 2
+boundary s s p
+atom_style sph/elastic
+atom_modify map array
+lattice sq 0.002 origin 0.5 0.5 0.0
+{body}
+region box block -4 101 -1 11 -0.5 0.5 units lattice
+create_box 1 box
+create_atoms 1 region domain
+set group all mol 1
+{mirrors}
+pair_style sph/icb 0.0024 plane strain
+pair_coeff * * 20e9 0.3 svk
+neighbor 0.001 bin
+{clamp}
+fix g body sph/bodyforce 0.0 -6e4
+fix_modify g energy yes
+compute probe all sph/probe 0.2 0.01
+thermo_style custom step pe c_probe[1][2]
+min_style sph/newton
+minimize 0 1e-8 100 1000
+variable tip equal c_probe[1][2]
+"""
+
+
+def test_a_clamp_on_a_slightly_tilted_plane_is_the_lattice_clamp(tmp_path):
+    """The general path of fix sph/mirror (images by create_sph_mirrors,
+    pairing by reflection across a plane of any normal, volumes times the
+    reflection's ratio, the tie in sph/newton) on a plane tilted by 1e-6
+    rad: the mirror atoms move by at most 2e-8 m from the lattice columns,
+    and the tip deflection agrees with the lattice mirror's to 1e-6."""
+    tips = {}
+    for mode in ("lattice", "created"):
+        lmp = make_lammps()
+        lmp.commands_string(tilted_clamp_script(mode, tilt=1e-6))
+        tips[mode] = lmp.extract_variable("tip")
+        lmp.close()
+    assert tips["lattice"] < -0.01
+    assert tips["created"] == pytest.approx(tips["lattice"], rel=1e-6)
+
+
+def test_a_lattice_cut_at_a_slant_gets_a_warning(tmp_path):
+    """A plane tilted by 0.1 cuts the lattice's rows anywhere between 0 and
+    a spacing from it: the first layer's volumes do not end at the plane
+    (first order there), which the fix says."""
+    rc, out = run_lmp(tilted_clamp_script("created", tilt=0.1), tmp_path)
+    assert rc == 0, out
+    assert "do not lie in layers parallel to the plane through (0, 0, 0)" in out
+    assert "the clamp is only first order" in out
+    # the same plane along x is layered: no such warning
+    rc, out = run_lmp(tilted_clamp_script("created", tilt=0.0), tmp_path)
+    assert rc == 0, out
+    assert "do not lie in layers parallel" not in out
+
+
+def test_volumes_set_before_the_mirrors_are_warned(tmp_path):
+    """set_sph_volumes before create_sph_mirrors corrected the clamped
+    surface as a free one: create_sph_mirrors warns."""
+    rc, out = run_lmp(tilted_clamp_script("created", tilt=0.0), tmp_path)
+    assert rc == 0, out
+    assert "already have volumes; if they come from set_sph_volumes" in out

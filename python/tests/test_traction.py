@@ -519,7 +519,7 @@ BAD = [
      "normal to x, a periodic dimension"),
     ("region r block INF 0.002 INF INF INF INF units box\ngroup g region r\n"
      "change_box all boundary s p p\nfix m g sph/mirror y 0.0\nrun 0",
-     "normal to y, a periodic dimension"),
+     "is not invariant along y, a periodic dimension"),
 ]
 
 
