@@ -40,7 +40,7 @@ namespace {
 constexpr tagint MAX_BODIES_CHECKED = 100000;
 // a rigid mode this little constrained (rows are O(1)) is free
 constexpr double RIGID_MODE_TOL = 1.0e-8;
-enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3, MIRROR_EVEN = 4 };
+enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3 };
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -80,13 +80,6 @@ void NewtonDofs::find(int vflag)
   std::unordered_map<tagint, const FixSPHMirror *> fix_of;
   for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
     const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
-    // a slip surface that is no x, y or z plane ties each mirror coordinate
-    // to all of its source's: not a signed copy of one
-    if (!mirror->diagonal_ties())
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Min_style sph/newton does not support fix {} sph/mirror with slip yes on a "
-                 "surface other than an x, y or z plane; use min_style cg (or a clamp)",
-                 fix->id);
     for (const auto &[m, s] : mirror->mirror_sources()) {
       source_of[m] = s;
       mirrors_of[s].emplace_back(m, mirror);
@@ -117,6 +110,11 @@ void NewtonDofs::find(int vflag)
   const bigint ndof = atom->natoms * dim;
   std::vector<int> status(ndof, UNKNOWN), status_all(ndof);
   std::vector<tagint> source(ndof, 0), source_all(ndof);
+  // row a of a mirror atom's tie T, per dof of a mirror atom
+  const bool mirrors = !source_of.empty();
+  std::vector<double> ties(mirrors ? 3 * ndof : 0, 0.0), ties_all(ties.size());
+  double **x0 = atom->x0;
+  double T[3][3];
   for (int i = 0; i < nlocal; i++)
     for (int a = 0; a < dim; a++) {
       const bigint dof = (tag[i] - 1) * dim + a;
@@ -126,17 +124,24 @@ void NewtonDofs::find(int vflag)
       if (mirror != source_of.end()) {
         expected = size = 0.0;
       } else if (mirrors_of.count(tag[i])) {
-        for (const auto &[m, mirror] : mirrors_of[tag[i]]) {
-          expected += mirror->sign(a) * probe_value(m, a);
-          size += probe_value(m, a);
+        // the mirror hands T^T f to its source; a source lies on the
+        // normal line of its mirrors, so its position gives their T
+        for (const auto &[m, fix] : mirrors_of[tag[i]]) {
+          fix->tie(x0[i], T);
+          for (int b = 0; b < dim; b++) {
+            expected += T[b][a] * probe_value(m, b);
+            size += fabs(T[b][a]) * probe_value(m, b);
+          }
         }
       }
       // round-off of the test force itself and of the difference of the sums
       const double tolerance = 1.0e-12 * size * probe_scale +
           8.0 * DBL_EPSILON * (fabs(with_probe[3 * i + a]) + fabs(without[3 * i + a]));
       if (mirror != source_of.end() && change == 0.0) {
-        status[dof] = fix_of[tag[i]]->sign(a) < 0.0 ? MIRROR : MIRROR_EVEN;
+        status[dof] = MIRROR;
         source[dof] = mirror->second;
+        fix_of[tag[i]]->tie(x0[i], T);
+        for (int b = 0; b < 3; b++) ties[3 * dof + b] = T[a][b];
       } else if (change == 0.0) {
         status[dof] = HELD;
       } else if (fabs(change - expected * probe_scale) <= tolerance) {
@@ -152,43 +157,53 @@ void NewtonDofs::find(int vflag)
     }
   MPI_Allreduce(status.data(), status_all.data(), ndof, MPI_INT, MPI_SUM, world);
   MPI_Allreduce(source.data(), source_all.data(), ndof, MPI_LMP_TAGINT, MPI_SUM, world);
+  if (mirrors) MPI_Allreduce(ties.data(), ties_all.data(), 3 * ndof, MPI_DOUBLE, MPI_SUM, world);
 
   // every rank numbers the free coordinates the same way
   reduced.assign(ndof, -1);
-  dofsign.assign(ndof, 1);
   tied.assign(ndof, 0);
   nfree_dofs = 0;
   for (bigint dof = 0; dof < ndof; dof++)
     if (status_all[dof] == FREE) reduced[dof] = nfree_dofs++;
-  for (bigint dof = 0; dof < ndof; dof++)
-    if (status_all[dof] == MIRROR || status_all[dof] == MIRROR_EVEN) {
-      const bigint src = (source_all[dof] - 1) * dim + dof % dim;
-      if (status_all[src] == MIRROR || status_all[src] == MIRROR_EVEN)
-        error->all(FLERR, Error::NOLASTLINE,
-                   "Min_style sph/newton: mirror atom {} has a mirror atom as its source",
-                   dof / dim + 1);
-      reduced[dof] = reduced[src];
-      dofsign[dof] = (status_all[dof] == MIRROR) ? -1 : 1;
+  term_start.assign(ndof + 1, 0);
+  terms.clear();
+  for (bigint dof = 0; dof < ndof; dof++) {
+    term_start[dof] = (int) terms.size();
+    if (status_all[dof] == FREE) {
+      terms.push_back({reduced[dof], 1.0});
+    } else if (status_all[dof] == MIRROR) {
       tied[dof] = 1;
+      for (int b = 0; b < dim; b++) {
+        const double coef = ties_all[3 * dof + b];
+        if (coef == 0.0) continue;
+        const bigint src = (source_all[dof] - 1) * dim + b;
+        if (status_all[src] == MIRROR)
+          error->all(FLERR, Error::NOLASTLINE,
+                     "Min_style sph/newton: mirror atom {} has a mirror atom as its source",
+                     dof / dim + 1);
+        if (reduced[src] >= 0) terms.push_back({reduced[src], coef});
+      }
     } else if (status_all[dof] == UNKNOWN) {
       error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}",
                  dof / dim + 1);
     }
+  }
+  term_start[ndof] = (int) terms.size();
   if (nfree_dofs == 0)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
-  check_rigid_modes(status_all);
+  check_rigid_modes(status_all, ties_all);
 }
 
 /* ----------------------------------------------------------------------
    every body must be held against every rigid motion, or the Hessian is
    singular.  Per body (molecule ID): the rigid modes (translations and
    rotations about its centroid, scaled by its size) are tested against
-   the constraint rows of its held coordinates and odd mirror ties (for a
-   tie, 2 x the mode at the mirror atom: exact for translations, close
-   for rotations); a mode that no row sees is free.
+   the constraint rows of its held coordinates and mirror ties; a mode
+   that no row sees is free.
 ------------------------------------------------------------------------- */
 
-void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all)
+void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all,
+                                   const std::vector<double> &ties)
 {
   const int nlocal = atom->nlocal;
   const tagint *mol = atom->molecule;
@@ -220,29 +235,40 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all)
   }
   MPI_Allreduce(reach.data(), size.data(), nb, MPI_DOUBLE, MPI_MAX, world);
 
-  // normal matrix of the constraint rows restricted to the rigid modes
+  // normal matrix of the constraint rows restricted to the rigid modes: a
+  // held coordinate's row is the mode there; a mirror's, row a of
+  // (I - T) times it (the mode at the source taken as at the mirror:
+  // exact for translations, close for rotations)
   std::vector<double> normal(nmodes * nmodes * nb, 0.0), normal_all(nmodes * nmodes * nb);
   for (int i = 0; i < nlocal; i++) {
     const double *c = &centroid[4 * mol[i]];
     const double scale = size[mol[i]] > 0.0 ? 1.0 / size[mol[i]] : 0.0;
     const double d[3] = {(x[i][0] - c[0]) * scale, (x[i][1] - c[1]) * scale,
                          (x[i][2] - c[2]) * scale};
-    for (int a = 0; a < dim; a++) {
-      const int status = status_all[(tag[i] - 1) * dim + a];
-      if (status != HELD && status != MIRROR) continue;
-      // component a of each rigid mode at this atom: e_a, then (w x d)_a
-      double row[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-      row[a] = 1.0;
+    // component b of each rigid mode at this atom: e_b, then (w x d)_b
+    double mode[3][6] = {};
+    for (int b = 0; b < dim; b++) {
+      mode[b][b] = 1.0;
       if (dim == 2) {
-        row[2] = (a == 0) ? -d[1] : d[0];
+        mode[b][2] = (b == 0) ? -d[1] : d[0];
       } else {
         const double rot[3][3] = {{0.0, d[2], -d[1]}, {-d[2], 0.0, d[0]}, {d[1], -d[0], 0.0}};
-        for (int w = 0; w < 3; w++) row[3 + w] = rot[a][w];
+        for (int w = 0; w < 3; w++) mode[b][3 + w] = rot[b][w];
       }
-      const double weight = (status == MIRROR) ? 2.0 : 1.0;
+    }
+    for (int a = 0; a < dim; a++) {
+      const bigint dof = (tag[i] - 1) * dim + a;
+      const int status = status_all[dof];
+      if (status != HELD && status != MIRROR) continue;
+      double row[6];
+      for (int p = 0; p < nmodes; p++) {
+        row[p] = mode[a][p];
+        if (status == MIRROR)
+          for (int b = 0; b < dim; b++) row[p] -= ties[3 * dof + b] * mode[b][p];
+      }
       double *n = &normal[nmodes * nmodes * mol[i]];
       for (int p = 0; p < nmodes; p++)
-        for (int q = 0; q < nmodes; q++) n[nmodes * p + q] += weight * weight * row[p] * row[q];
+        for (int q = 0; q < nmodes; q++) n[nmodes * p + q] += row[p] * row[q];
     }
   }
   MPI_Allreduce(normal.data(), normal_all.data(), nmodes * nmodes * nb, MPI_DOUBLE, MPI_SUM, world);
@@ -306,10 +332,10 @@ void NewtonDofs::expand(const std::vector<double> &step, double *h) const
   for (int i = 0; i < atom->nlocal; i++)
     for (int a = 0; a < 3; a++) {
       double value = 0.0;
-      if (a < dim) {
-        const bigint dof = (tag[i] - 1) * dim + a;
-        if (reduced[dof] >= 0) value = dofsign[dof] * step[reduced[dof]];
-      }
+      if (a < dim)
+        for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
+          value += c * step[r];
+        });
       h[3 * i + a] = value;
     }
 }

@@ -25,9 +25,11 @@ namespace SPHElastic {
      the free coordinates of a Newton solve.  Coordinate a of the atom with
      ID k is dof (k-1)*dim + a.  A dof is free (an unknown of the solve),
      held (fix setforce zeroes its force), or tied: the coordinate of a
-     mirror atom of fix sph/mirror follows its source's free coordinate,
-     with the sign of the mirror (-1 for the component normal to it).
-     Every rank holds the whole map, numbered alike.
+     mirror atom of fix sph/mirror is a combination of its source's free
+     coordinates, row a of the mirror's tie T = d x_mirror / d x_source
+     (-1 for a clamp; I - 2 n n^T for a slip surface).  A dof is thus the
+     sum of its terms (free index, coefficient): one (r, 1) if free, none
+     if held.  Every rank holds the whole map, numbered alike.
   ------------------------------------------------------------------------- */
 
   class NewtonDofs : protected Pointers {
@@ -41,12 +43,16 @@ namespace SPHElastic {
 
     int dimension() const { return dim; }
     int nfree() const { return nfree_dofs; }
-    // free index of a dof, -1 if held
+    // free index of a free dof, -1 if held or tied
     int index(bigint dof) const { return reduced[dof]; }
-    // +1, or -1 for a mirror dof that moves against its source
-    int sign(bigint dof) const { return dofsign[dof]; }
-    // true for a mirror atom's dof (it follows its source's free index)
+    // true for a mirror atom's dof (it follows its source's free coordinates)
     bool is_tied(bigint dof) const { return tied[dof] != 0; }
+    // visit(r, c) for each term of the dof: its value is sum c x_r
+    template <typename Visit> void for_each_term(bigint dof, Visit &&visit) const
+    {
+      for (int k = term_start[dof]; k < term_start[dof + 1]; k++)
+        visit(terms[k].index, terms[k].coef);
+    }
 
     // this rank's share of the force on the free coordinates (length
     // nfree, zero elsewhere; their sum over ranks is the whole force).
@@ -58,12 +64,17 @@ namespace SPHElastic {
    private:
     int dim;
     int nfree_dofs;
-    std::vector<int> reduced;            // dof -> free index, -1 if held
-    std::vector<signed char> dofsign;    // -1 for a mirror atom's odd dof
-    std::vector<char> tied;              // 1 for a mirror atom's dof
+    struct Term {
+      int index;
+      double coef;
+    };
+    std::vector<int> reduced;       // dof -> free index, -1 if held or tied
+    std::vector<char> tied;         // 1 for a mirror atom's dof
+    std::vector<int> term_start;    // dof -> its first term; ndof + 1 entries
+    std::vector<Term> terms;
 
     static double probe_value(tagint id, int a);
-    void check_rigid_modes(const std::vector<int> &status_all);
+    void check_rigid_modes(const std::vector<int> &status_all, const std::vector<double> &ties);
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS

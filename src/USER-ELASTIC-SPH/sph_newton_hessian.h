@@ -99,10 +99,10 @@ namespace SPHElastic {
       const tagint *tag = atom->tag;
       const int dim = dofs.dimension();
       for (int i = 0; i < atom->nlocal; i++)
-        for (int a = 0; a < dim; a++) {
-          const int r = dofs.index((tag[i] - 1) * dim + a);
-          if (r >= 0) needed.push_back(r);
-        }
+        for (int a = 0; a < dim; a++)
+          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double) {
+            needed.push_back(r);
+          });
       std::sort(needed.begin(), needed.end());
       needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
       return needed;
@@ -119,18 +119,16 @@ namespace SPHElastic {
       work_in.assign(3 * (size_t) nlocal, 0.0);
       work_out.assign(3 * (size_t) nlocal, 0.0);
       for (int i = 0; i < nlocal; i++)
-        for (int a = 0; a < dim; a++) {
-          const bigint dof = (tag[i] - 1) * dim + a;
-          const int r = dofs.index(dof);
-          if (r >= 0) work_in[3 * i + a] = dofs.sign(dof) * value(r);
-        }
+        for (int a = 0; a < dim; a++)
+          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
+            work_in[3 * i + a] += c * value(r);
+          });
       pair.hessian_product(work_in.data(), work_out.data());
       for (int i = 0; i < nlocal; i++)
-        for (int a = 0; a < dim; a++) {
-          const bigint dof = (tag[i] - 1) * dim + a;
-          const int r = dofs.index(dof);
-          if (r >= 0) add(r, dofs.sign(dof) * work_out[3 * i + a]);
-        }
+        for (int a = 0; a < dim; a++)
+          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
+            add(r, c * work_out[3 * i + a]);
+          });
     }
 
    private:
@@ -144,18 +142,15 @@ namespace SPHElastic {
     bool map_lower(tagint k, tagint l, const double (*block)[3], Add &add) const
     {
       const int dim = dofs.dimension();
-      for (int a = 0; a < dim; a++) {
-        const bigint kdof = (k - 1) * dim + a;
-        const int row = dofs.index(kdof);
-        if (row < 0) continue;
-        for (int b = 0; b < dim; b++) {
-          const bigint ldof = (l - 1) * dim + b;
-          const int col = dofs.index(ldof);
-          if (col < 0 || col > row) continue;
-          if (!add(row, col, dofs.sign(kdof) * dofs.sign(ldof) * block[a][b])) return false;
-        }
-      }
-      return true;
+      bool going = true;
+      for (int a = 0; a < dim && going; a++)
+        dofs.for_each_term((k - 1) * dim + a, [&](int row, double crow) {
+          for (int b = 0; b < dim && going; b++)
+            dofs.for_each_term((l - 1) * dim + b, [&](int col, double ccol) {
+              if (going && col <= row) going = add(row, col, crow * ccol * block[a][b]);
+            });
+        });
+      return going;
     }
   };
 }    // namespace SPHElastic
