@@ -389,7 +389,9 @@ def table7(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
           f"nu = {g['nu']:g}, inner pressure p/E = {g['p'] / g['E']:g} (full: pinned; quarter: two "
           "symmetry planes); clamped: clamped on r = a by fix sph/mirror on the cylinder, the "
           "same pressure outside; relative errors of the layer means of u_r and sigma_tt at "
-          "r = a + dr/2 and b - dr/2 against the exact solution there, q = observed order")
+          "r = a + dr/2 and b - dr/2 against the exact solution there, q = observed order "
+          "(clamped: u_r(a+) is itself O(dr), so its relative error's q = 1 is an absolute "
+          "order 2)")
     rows = []
     cols = ["u_r(a+)", "u_r(b-)", "stt(a+)", "stt(b-)"]
     head = f"{'plane':>6} {'model':>7} {'nw':>3} {'atoms':>6} | " + " | ".join(

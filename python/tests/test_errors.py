@@ -93,10 +93,7 @@ CASES = [
     (ICB + "region r block INF 0.003 INF INF INF INF units box\ngroup left region r\n"
      "create_sph_mirrors left m x 0.003 depth 0.002", "already lie behind the plane x = 0.003"),
     (ICB + "create_sph_mirrors all m plane 0 0 0 1 0.2 0 depth 0.0025\n"
-     "fix s m sph/mirror plane 0 0 0 1 0.2 0 slip yes\nmin_style sph/newton\n"
-     "minimize 0 1e-8 10 100", "does not support fix s sph/mirror with slip yes"),
-    (ICB + "create_sph_mirrors all m plane 0 0 0 1 0.2 0 depth 0.0025\n"
-     "fix s m sph/mirror cylinder z 0 0 0.001\nrun 0", "has no source at"),
+     "fix s m sph/mirror plane 0 0 0 1 0.3 0\nrun 0", "sph/mirror: atom 26 of group m at reference"),
     ("fix c all sph/contact", "Illegal fix sph/contact command"),
     ("fix c all sph/contact -0.001", "contact distance dx must be > 0"),
     ("fix c all sph/contact 0.001 thickness 0", "thickness must be > 0"),

@@ -100,7 +100,6 @@ class FixSPHMirror : public Fix {
   void parse_keywords(int, int, char **);
   void warn_if_thin(double dmax, double support);
   bool thin_warned = false;
-  bool layers_warned = false;
   void pair_up();
   void copy_volume(tagint, double, double);
   void place_mirrors(const double *u0);
@@ -114,7 +113,9 @@ class FixSPHMirror : public Fix {
   double body_side = 0.0;                 // +1: the body lies where the distance is > 0
   double layer_spacing = 0.0;             // the particle spacing next to the surface
 
-  void warn_if_not_layered(const std::vector<double> &mirrors, double dmin);
+  void require_images_at_spacing(const std::vector<double> &mirrors,
+                                 const std::vector<double> &cands,
+                                 const std::vector<int> &source_index, double reach);
 };
 
 }    // namespace LAMMPS_NS
