@@ -22,6 +22,13 @@ _esph_key=$(printf '%s|%s' "$ESPH_ROOT" "$LAMMPS_SOURCE_DIR" | sha1sum | cut -c1
 ESPH_BUILD=${ESPH_BUILD:-$ESPH_CACHE/build-$_esph_key}
 ESPH_VENV=${ESPH_VENV:-$ESPH_BUILD/venv}
 ESPH_LMP=$ESPH_BUILD/lmp
+# The plugin route: a plain LAMMPS of the same tree with the PLUGIN package
+# (a user's LAMMPS; one per LAMMPS tree, shared by the clones), and the
+# plugin built from this clone's sources against it.
+_esph_host_key=$(printf '%s' "$LAMMPS_SOURCE_DIR" | sha1sum | cut -c1-12)
+ESPH_HOST_BUILD=${ESPH_HOST_BUILD:-$ESPH_CACHE/host-$_esph_host_key}
+ESPH_PLUGIN_BUILD=${ESPH_PLUGIN_BUILD:-$ESPH_BUILD/plugin}
+ESPH_PLUGIN=$ESPH_PLUGIN_BUILD/elasticsphplugin.so
 ESPH_JOBS=${ESPH_JOBS:-$(nproc)}
 
 say() { printf '[esph] %s\n' "$*" >&2; }
@@ -35,7 +42,7 @@ as_root() {
 # Environment for anything that loads liblammps from our build.
 esph_env() {
   export PATH="$ESPH_VENV/bin:$ESPH_BUILD:$PATH"
-  export LAMMPS_SOURCE_DIR ESPH_BUILD ESPH_LMP ESPH_ROOT
+  export LAMMPS_SOURCE_DIR ESPH_BUILD ESPH_LMP ESPH_ROOT ESPH_HOST_BUILD ESPH_PLUGIN
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
   # OpenBLAS (under CHOLMOD in min_style sph/newton) falls back to generic

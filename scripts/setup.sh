@@ -3,6 +3,8 @@
 # Idempotent: a second run with nothing changed only checks and returns.
 #
 #   scripts/setup.sh            everything (system packages, LAMMPS source, build, venv)
+#   scripts/setup.sh --plugin   also a plain LAMMPS with the PLUGIN package and
+#                               the package built as a plugin for it (tests)
 #   LAMMPS_SOURCE_DIR=/path     use your own LAMMPS tree instead of the pinned one
 #   ESPH_CACHE=/path            where source, build and venv live (default ~/.cache/user-elastic-sph)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -95,6 +97,37 @@ configure_and_build() {
     { grep -E 'error|Error' "$ESPH_BUILD/build.log" | head -30 >&2; die "build failed (log: $ESPH_BUILD/build.log)"; }
 }
 
+# The plugin route, as a user with their own LAMMPS takes it: a LAMMPS of the
+# same tree built with PKG_PLUGIN and without this package (the host), and
+# the plugin built from plugin/CMakeLists.txt against its headers.
+build_plugin_route() {
+  export CCACHE_BASEDIR="$ESPH_CACHE" CCACHE_NOHASHDIR=1
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  if [ ! -f "$ESPH_HOST_BUILD/build.ninja" ]; then
+    mkdir -p "$ESPH_HOST_BUILD"
+    say "configuring a plain LAMMPS with the PLUGIN package in $ESPH_HOST_BUILD"
+    cmake -S "$LAMMPS_SOURCE_DIR/cmake" -B "$ESPH_HOST_BUILD" -G Ninja "${launcher[@]}" \
+      -DCMAKE_BUILD_TYPE=Release -DBUILD_MPI=on -DBUILD_OMP=off -DBUILD_SHARED_LIBS=on \
+      -DPKG_PLUGIN=on -DPKG_MOLECULE=on -DDOWNLOAD_EIGEN3=off \
+      >"$ESPH_HOST_BUILD/configure.log" 2>&1 ||
+      { tail -40 "$ESPH_HOST_BUILD/configure.log" >&2; die "host LAMMPS configure failed"; }
+  fi
+  say "building the plain LAMMPS (ninja, $ESPH_JOBS jobs)"
+  cmake --build "$ESPH_HOST_BUILD" -j "$ESPH_JOBS" --target lmp >"$ESPH_HOST_BUILD/build.log" 2>&1 ||
+    { grep -E 'error|Error' "$ESPH_HOST_BUILD/build.log" | head -30 >&2; die "host LAMMPS build failed (log: $ESPH_HOST_BUILD/build.log)"; }
+  if [ ! -f "$ESPH_PLUGIN_BUILD/build.ninja" ]; then
+    say "configuring the plugin in $ESPH_PLUGIN_BUILD"
+    cmake -S "$ESPH_ROOT/plugin" -B "$ESPH_PLUGIN_BUILD" -G Ninja "${launcher[@]}" \
+      -DLAMMPS_SOURCE_DIR="$LAMMPS_SOURCE_DIR/src" -DESPH_PLUGIN_TESTS=on \
+      >"$ESPH_PLUGIN_BUILD.configure.log" 2>&1 ||
+      { tail -40 "$ESPH_PLUGIN_BUILD.configure.log" >&2; die "plugin configure failed"; }
+  fi
+  say "building the plugin"
+  cmake --build "$ESPH_PLUGIN_BUILD" -j "$ESPH_JOBS" >"$ESPH_PLUGIN_BUILD/build.log" 2>&1 ||
+    { grep -E 'error|Error' "$ESPH_PLUGIN_BUILD/build.log" | head -30 >&2; die "plugin build failed (log: $ESPH_PLUGIN_BUILD/build.log)"; }
+}
+
 setup_venv() {
   if [ ! -x "$ESPH_VENV/bin/python" ]; then
     say "creating virtual environment $ESPH_VENV"
@@ -125,6 +158,7 @@ main() {
   install_system_packages
   fetch_lammps
   configure_and_build
+  [ "${1:-}" = "--plugin" ] && build_plugin_route
   setup_venv
   say "ready: $ESPH_LMP ($(ls -1 "$ESPH_BUILD"/liblammps.so* | head -1))"
 }

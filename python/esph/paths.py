@@ -15,3 +15,15 @@ def lmp_binary() -> str:
     if not path or not Path(path).exists():
         raise RuntimeError("lmp not found: run scripts/setup.sh (it exports ESPH_LMP)")
     return path
+
+
+def plugin_route() -> tuple[str, str]:
+    """(lmp, elasticsphplugin.so) of the plugin route: a plain LAMMPS with the
+    PLUGIN package and the package built as a plugin for it (scripts/setup.sh
+    --plugin exports ESPH_HOST_BUILD and ESPH_PLUGIN)."""
+    host, plugin = os.environ.get("ESPH_HOST_BUILD"), os.environ.get("ESPH_PLUGIN")
+    lmp = Path(host) / "lmp" if host else None
+    if not lmp or not lmp.exists() or not plugin or not Path(plugin).exists():
+        raise RuntimeError("the plugin route is not built: run scripts/setup.sh --plugin "
+                           "(scripts/test does)")
+    return str(lmp), plugin
