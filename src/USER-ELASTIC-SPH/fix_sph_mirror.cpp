@@ -58,8 +58,8 @@ constexpr double MATCH_TOL = 1.0e-6;
 // hash cells for matching, much larger than the tolerance
 constexpr double CELL_SIZE = 1.0e-4;
 constexpr int NPACK = 6;    // atom ID, reference position, volume and mass per gathered atom
-// a mirror atom lies an odd number of spacings from its source, to this
-// fraction of a spacing (nearer, its cell overlaps its source's)
+// a mirror atom of the first layer lies a spacing from its source, to this
+// fraction of it (nearer, its cell overlaps its source's; farther, a gap)
 constexpr double IMAGE_GAP_TOL = 0.3;
 // the largest push of a plane into the body in one minimization, in
 // particle spacings: 0.4 reached a 10 % compression in 4 increments
@@ -418,7 +418,8 @@ void FixSPHMirror::pair_up()
                  "two mirror surfaces meet, leave the corner empty",
                  id, tag[i]);
     if (!mirror && (mask[i] & other_mirrors)) continue;
-    if (!mirror && std::fabs(surface.signed_distance(x0[i])) > dmax + tol) continue;
+    // twice as deep as the mirrors: sources and their inward neighbours
+    if (!mirror && std::fabs(surface.signed_distance(x0[i])) > 2.0 * dmax + tol) continue;
     auto &dest = mirror ? mirrors_mine : cands_mine;
     dest.insert(dest.end(),
                 {(double) tag[i], x0[i][0], x0[i][1], x0[i][2], atom->vfrac[i], atom->rmass[i]});
@@ -474,24 +475,25 @@ void FixSPHMirror::pair_up()
     const double ratio = surface.volume_ratio(&cands[found_at * NPACK + 1]);
     copy_volume(gtag, ratio * cands[found_at * NPACK + 4], ratio * cands[found_at * NPACK + 5]);
   }
-  require_images_at_spacing(mirrors, cands, source_index, dmax);
+  require_images_at_spacing(mirrors, cands, source_index, 2.0 * dmax);
   comm_what = COMM_VOLUME;
   comm->forward_comm(this);
   comm_what = COMM_POSITION;
 }
 
 /* ----------------------------------------------------------------------
-   the body and its images make one particle layout only if each image
-   lies an odd number of spacings from its source (the first layer half a
+   the body and its images make one particle layout only if the first
+   layer's images lie a spacing from their sources (the layer half a
    spacing deep), as on a lattice plane on cell boundaries, polar layers about a
    cylinder's axis, or a symmetric body's own half.  A lattice cut by the
    surface at a slant or by a curve puts its rows' last particles anywhere
    between 0 and a spacing from it: their cells overlap their images' (or
    leave gaps), and the clamp did not converge (a beam clamped on a
    cylinder, lattice cut by the arc: +0.61 / +1.48 / +0.18 % at dx = 2 / 1
-   / 0.5 mm against the FE continuum).  Refused.  The spacing at a source is
-   its distance to the nearest other body atom.  Every rank holds the same
-   gathered atoms: the error is collective
+   / 0.5 mm against the FE continuum; with the cells clipped at the arc,
+   +0.91 / +1.22 %).  Refused.  The candidates reach twice the mirrors'
+   depth, so that the layers they hold have inward neighbours.  Every rank
+   holds the same gathered atoms: the error is collective
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
@@ -501,10 +503,18 @@ void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
   std::map<CellKey, std::vector<int>> cells;
   for (int c = 0; c < (int) cands.size() / NPACK; c++)
     cells[cell_of(&cands[c * NPACK + 1], reach)].push_back(c);
+  // the layer spacing along the normal: how far along the inward normal
+  // the nearest body atom within 60 degrees of it lies (the next layer's,
+  // on polar layers whatever its angular offset; on a lattice whose
+  // spacing differs between directions, the one along the normal); 0 if
+  // none is within reach
   auto spacing_at = [&](int c) {
     const double *X = &cands[c * NPACK + 1];
+    double inward[3];
+    surface.normal(X, inward);
+    for (double &n : inward) n *= body_side;
     const CellKey centre = cell_of(X, reach);
-    double nearest2 = reach * reach;
+    double nearest2 = INFINITY, spacing = 0.0;
     for (int a = -1; a <= 1; a++)
       for (int b = -1; b <= 1; b++)
         for (int e = -1; e <= 1; e++) {
@@ -513,20 +523,26 @@ void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
           for (int k : it->second) {
             if (k == c) continue;
             const double *Y = &cands[k * NPACK + 1];
-            nearest2 = std::min(nearest2,
-                                (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
-                                    (X[2] - Y[2]) * (X[2] - Y[2]));
+            const double del[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
+            const double d2 = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+            const double along = del[0] * inward[0] + del[1] * inward[1] + del[2] * inward[2];
+            if (along > 0.0 && along * along >= 0.25 * d2 && d2 < nearest2) {
+              nearest2 = d2;
+              spacing = along;
+            }
           }
         }
-    return std::sqrt(nearest2);
+    return spacing;
   };
   for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
     const double gap = 2.0 * std::fabs(surface.signed_distance(&mirrors[g * NPACK + 1]));
     const double spacing = spacing_at(source_index[g]);
-    // layer k of the body and its image are (2k + 1) spacings apart
+    if (spacing == 0.0) continue;    // the deepest layer of the band: nothing to judge by
+    // the first layer and its image are a spacing apart; deeper layers
+    // (two spacings or more) follow from it, and on curved layers their
+    // spacing along the normal is no longer the neighbours'
     const double ratio = gap / spacing;
-    const double odd = 2.0 * std::round(0.5 * (ratio - 1.0)) + 1.0;
-    if (std::fabs(ratio - odd) <= IMAGE_GAP_TOL) continue;
+    if (ratio >= 2.0 || std::fabs(ratio - 1.0) <= IMAGE_GAP_TOL) continue;
     error->all(FLERR, Error::NOLASTLINE,
                "Fix {} sph/mirror: mirror atom {} lies {:.6g} from its source across {}, where "
                "the particle spacing is {:.6g}: the particles do not lie in layers parallel to "
