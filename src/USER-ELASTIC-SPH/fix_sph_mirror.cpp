@@ -489,11 +489,11 @@ void FixSPHMirror::pair_up()
    surface at a slant or by a curve puts its rows' last particles anywhere
    between 0 and a spacing from it: their cells overlap their images' (or
    leave gaps), and the clamp did not converge (a beam clamped on a
-   cylinder, lattice cut by the arc: +0.61 / +1.48 / +0.18 % at dx = 2 / 1
-   / 0.5 mm against the FE continuum; with the cells clipped at the arc,
-   +0.91 / +1.22 %).  Refused.  The candidates reach twice the mirrors'
-   depth, so that the layers they hold have inward neighbours.  Every rank
-   holds the same gathered atoms: the error is collective
+   cylinder whose lattice the arc cuts, against the FE continuum; cells
+   clipped at the arc did not help).  Refused.  The candidates reach twice
+   the mirrors' depth, so that the layers they hold have inward
+   neighbours.  Every rank holds the same gathered atoms: the error is
+   collective
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
