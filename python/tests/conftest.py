@@ -35,20 +35,29 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
     """)
 
 
+def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None = None) -> str:
+    """Input lines up to create_box of a dim-d si box 'xlo xhi ylo yhi [zlo
+    zhi]' (lattice units) for atom_style sph/elastic, on a square (cubic)
+    lattice of spacing dx whose sites are the cell centres."""
+    lattice, origin = ("sq", "0.5 0.5 0.0") if dim == 2 else ("sc", "0.5 0.5 0.5")
+    boundary = boundary or ("s s p" if dim == 2 else "s s s")
+    thin = " -0.5 0.5" if dim == 2 else ""
+    return f"""
+units si
+dimension {dim}
+boundary {boundary}
+atom_style sph/elastic
+atom_modify map array
+lattice {lattice} {dx} origin {origin}
+region box block {box}{thin}
+create_box 1 box
+"""
+
+
 def lattice_2d_script(box: str, dx: float = 1.0e-3) -> str:
     """Input lines of a 2d si box 'xlo xhi ylo yhi' (lattice units) filled
     with particles on the cell centres of a square lattice of spacing dx."""
-    return f"""
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq {dx} origin 0.5 0.5 0.0
-region box block {box} -0.5 0.5
-create_box 1 box
-create_atoms 1 box
-"""
+    return sph_header(box, dx) + "create_atoms 1 box\n"
 
 
 def apply_affine(lmp, A, dim):

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps, restart_round_trip, run_lmp
+from conftest import make_lammps, restart_round_trip, run_lmp, sph_header
 from esph.beam import BeamCase, run_beam
 from esph.runner import run_mpi
 
@@ -248,16 +248,8 @@ def tilted_clamp_script(mode: str, tilt: float = 0.0) -> str:
                    "correction none\n"
                    f"create_sph_mirrors body clamp plane 0 0 0 1 {tilt} 0 depth 0.0052\n")
         clamp = f"fix hold clamp sph/mirror plane 0 0 0 1 {tilt} 0"
-    return f"""
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq 0.002 origin 0.5 0.5 0.0
+    return sph_header("-4 101 -1 11", 0.002) + f"""
 {body}
-region box block -4 101 -1 11 -0.5 0.5 units lattice
-create_box 1 box
 create_atoms 1 region domain
 set group all mol 1
 {mirrors}
@@ -320,15 +312,7 @@ def rotated_block_script(deg: float, solver: str = "sph/newton") -> str:
     faces (fix sph/mirror plane ... slip yes, images by create_sph_mirrors),
     pulled by a pressure on its far half's surface."""
     c, s = float(np.cos(np.radians(deg))), float(np.sin(np.radians(deg)))
-    return f"""
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block -20 20 -20 20 -0.5 0.5
-create_box 1 box
+    return sph_header("-20 20 -20 20") + f"""
 region blk block 0 8 0 6 -0.5 0.5
 create_atoms 1 region blk
 set group all mol 1
@@ -386,15 +370,7 @@ def test_images_across_a_sphere_lie_on_the_ray_with_scaled_volumes(tmp_path):
     source's ray at radius 2R - r, with the source's volume and mass times
     ((2R - r)/r)^2; fix sph/mirror then refuses the lattice the sphere cuts."""
     centre, radius, depth = np.array([-0.0195, 0.002, 0.002]), 0.0199, 0.0012
-    setup = f"""
-units si
-dimension 3
-boundary s s s
-atom_style sph/elastic
-atom_modify map array
-lattice sc 0.001 origin 0.5 0.5 0.5
-region box block -1 5 -1 5 -1 5
-create_box 1 box
+    setup = sph_header("-1 5 -1 5 -1 5", dim=3) + f"""
 region cube block 0 4 0 4 0 4
 create_atoms 1 region cube
 set group all mol 1

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import lattice_2d_script
 from esph.paths import EXAMPLES, ROOT, lmp_binary, plugin_route
 from esph.runner import run_mpirun
 
@@ -23,17 +24,7 @@ def block_input(load: str) -> str:
     """A clamped 2d block under its weight, solved by min_style sph/newton:
     every kind of style the plugin brings (atom, pair, fix, compute, command,
     min).  `load` comes first (a plugin load command, or nothing)."""
-    return f"""{load}
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block 0 8 0 4 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
-set group all mol 1
+    return load + lattice_2d_script("0 8 0 4") + """set group all mol 1
 set_sph_volumes all lattice 0.001 thickness 0.001 density 1000
 pair_style sph/icb 0.0012 plane strain
 pair_coeff * * 1e9 0.3

@@ -42,7 +42,6 @@
 #include "update.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -64,15 +63,6 @@ constexpr double IMAGE_GAP_TOL = 0.3;
 // the largest push of a plane into the body in one minimization, in
 // particle spacings: 0.4 reached a 10 % compression in 4 increments
 constexpr double MAX_PUSH_PER_MINIMIZE = 0.5;
-
-using CellKey = std::array<long long, 3>;
-
-CellKey cell_of(const double *X, double cell)
-{
-  return {(long long) std::floor(X[0] / cell), (long long) std::floor(X[1] / cell),
-          (long long) std::floor(X[2] / cell)};
-}
-
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -432,9 +422,7 @@ void FixSPHMirror::pair_up()
                                         : SPHElastic::nearest_distance(cands, NPACK, 1, dmax);
   if (pair) warn_if_thin(dmax, pair->get_kernel().support());
 
-  std::map<CellKey, std::vector<int>> cells;
-  for (int c = 0; c < (int) cands.size() / NPACK; c++)
-    cells[cell_of(&cands[c * NPACK + 1], cell)].push_back(c);
+  const SPHElastic::PointCells sources(cands, NPACK, 1, cell);
 
   source.clear();
   std::vector<int> source_index(mirrors.size() / NPACK);
@@ -442,25 +430,18 @@ void FixSPHMirror::pair_up()
     const auto gtag = (tagint) mirrors[g * NPACK];
     double want[3];
     surface.reflect(&mirrors[g * NPACK + 1], want);
-    const CellKey centre = cell_of(want, cell);
     tagint found = -1;
     int found_at = -1;
     // the source may sit in a neighbouring hash cell after round-off
-    for (int a = -1; a <= 1 && found < 0; a++)
-      for (int b = -1; b <= 1 && found < 0; b++)
-        for (int e = -1; e <= 1 && found < 0; e++) {
-          auto it = cells.find({centre[0] + a, centre[1] + b, centre[2] + e});
-          if (it == cells.end()) continue;
-          for (int c : it->second) {
-            const double *X = &cands[c * NPACK + 1];
-            const double d2 = (X[0] - want[0]) * (X[0] - want[0]) +
-                (X[1] - want[1]) * (X[1] - want[1]) + (X[2] - want[2]) * (X[2] - want[2]);
-            if (d2 <= tol * tol) {
-              found = (tagint) cands[c * NPACK];
-              found_at = c;
-            }
-          }
-        }
+    sources.visit_near(want, [&](int c) {
+      const double *X = sources.point(c);
+      const double d2 = (X[0] - want[0]) * (X[0] - want[0]) + (X[1] - want[1]) * (X[1] - want[1]) +
+          (X[2] - want[2]) * (X[2] - want[2]);
+      if (d2 > tol * tol) return true;
+      found = (tagint) cands[c * NPACK];
+      found_at = c;
+      return false;
+    });
     if (found < 0)
       error->all(FLERR, Error::NOLASTLINE,
                  "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
@@ -500,38 +481,30 @@ void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
                                              const std::vector<double> &cands,
                                              const std::vector<int> &source_index, double reach)
 {
-  std::map<CellKey, std::vector<int>> cells;
-  for (int c = 0; c < (int) cands.size() / NPACK; c++)
-    cells[cell_of(&cands[c * NPACK + 1], reach)].push_back(c);
+  const SPHElastic::PointCells points(cands, NPACK, 1, reach);
   // the layer spacing along the normal: how far along the inward normal
   // the nearest body atom within 60 degrees of it lies (the next layer's,
   // on polar layers whatever its angular offset; on a lattice whose
   // spacing differs between directions, the one along the normal); 0 if
   // none is within reach
   auto spacing_at = [&](int c) {
-    const double *X = &cands[c * NPACK + 1];
+    const double *X = points.point(c);
     double inward[3];
     surface.normal(X, inward);
     for (double &n : inward) n *= body_side;
-    const CellKey centre = cell_of(X, reach);
     double nearest2 = INFINITY, spacing = 0.0;
-    for (int a = -1; a <= 1; a++)
-      for (int b = -1; b <= 1; b++)
-        for (int e = -1; e <= 1; e++) {
-          auto it = cells.find({centre[0] + a, centre[1] + b, centre[2] + e});
-          if (it == cells.end()) continue;
-          for (int k : it->second) {
-            if (k == c) continue;
-            const double *Y = &cands[k * NPACK + 1];
-            const double del[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
-            const double d2 = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
-            const double along = del[0] * inward[0] + del[1] * inward[1] + del[2] * inward[2];
-            if (along > 0.0 && along * along >= 0.25 * d2 && d2 < nearest2) {
-              nearest2 = d2;
-              spacing = along;
-            }
-          }
-        }
+    points.visit_near(X, [&](int k) {
+      if (k == c) return true;
+      const double *Y = points.point(k);
+      const double del[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
+      const double d2 = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
+      const double along = del[0] * inward[0] + del[1] * inward[1] + del[2] * inward[2];
+      if (along > 0.0 && along * along >= 0.25 * d2 && d2 < nearest2) {
+        nearest2 = d2;
+        spacing = along;
+      }
+      return true;
+    });
     return spacing;
   };
   for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {

@@ -218,39 +218,37 @@ std::string MirrorSurface::describe() const
                      radius);
 }
 
-/* ----------------------------------------------------------------------
-   hashed in cells of size reach: only the 27 cells around a point can
-   hold a nearer one
-------------------------------------------------------------------------- */
+/* ---------------------------------------------------------------------- */
+
+PointCells::PointCells(const std::vector<double> &records, int stride, int offset, double size) :
+    records(records), stride(stride), offset(offset), cell(size)
+{
+  for (int k = 0; k < this->size(); k++) cells[cell_of(point(k))].push_back(k);
+}
+
+PointCells::Cell PointCells::cell_of(const double *X) const
+{
+  return {(long long) std::floor(X[0] / cell), (long long) std::floor(X[1] / cell),
+          (long long) std::floor(X[2] / cell)};
+}
+
+/* ---------------------------------------------------------------------- */
 
 double SPHElastic::nearest_distance(const std::vector<double> &records, int stride, int offset,
                                     double reach)
 {
-  using Cell = std::array<long long, 3>;
-  auto cell_of = [reach](const double *X) {
-    return Cell{(long long) std::floor(X[0] / reach), (long long) std::floor(X[1] / reach),
-                (long long) std::floor(X[2] / reach)};
-  };
-  const int n = (int) records.size() / stride;
-  std::map<Cell, std::vector<int>> cells;
-  for (int c = 0; c < n; c++) cells[cell_of(&records[c * stride + offset])].push_back(c);
+  const PointCells points(records, stride, offset, reach);
   double nearest2 = reach * reach;
-  for (int c = 0; c < n; c++) {
-    const double *X = &records[c * stride + offset];
-    const Cell centre = cell_of(X);
-    for (int a = -1; a <= 1; a++)
-      for (int b = -1; b <= 1; b++)
-        for (int e = -1; e <= 1; e++) {
-          auto it = cells.find({centre[0] + a, centre[1] + b, centre[2] + e});
-          if (it == cells.end()) continue;
-          for (int k : it->second) {
-            if (k == c) continue;
-            const double *Y = &records[k * stride + offset];
-            const double d2 = (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
-                (X[2] - Y[2]) * (X[2] - Y[2]);
-            nearest2 = std::min(nearest2, d2);
-          }
-        }
+  for (int c = 0; c < points.size(); c++) {
+    const double *X = points.point(c);
+    points.visit_near(X, [&](int k) {
+      if (k == c) return true;
+      const double *Y = points.point(k);
+      nearest2 = std::min(nearest2,
+                          (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+                              (X[2] - Y[2]) * (X[2] - Y[2]));
+      return true;
+    });
   }
   return std::sqrt(nearest2);
 }

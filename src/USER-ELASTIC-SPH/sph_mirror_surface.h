@@ -16,6 +16,8 @@
 
 #include "lmptype.h"
 
+#include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -80,9 +82,42 @@ namespace SPHElastic {
     void radial(const double *X, double *d) const;
   };
 
-  // the smallest distance between two of the points packed in records of
-  // 'stride' doubles (the position at 'offset'), or 'reach' if none is
-  // nearer than that; the same on every rank given the same records
+  /* ----------------------------------------------------------------------
+     points packed in records of 'stride' doubles (the position at
+     'offset'), hashed in cubic cells of a given size: the points within a
+     cell size of X are among those of the 27 cells around it
+  ------------------------------------------------------------------------- */
+
+  class PointCells {
+   public:
+    PointCells(const std::vector<double> &records, int stride, int offset, double size);
+    const double *point(int k) const { return &records[k * stride + offset]; }
+    int size() const { return (int) records.size() / stride; }
+    // visit(k) for every point k of the cells around X, until it returns false
+    template <typename Visit> void visit_near(const double *X, Visit &&visit) const
+    {
+      const Cell centre = cell_of(X);
+      for (int a = -1; a <= 1; a++)
+        for (int b = -1; b <= 1; b++)
+          for (int e = -1; e <= 1; e++) {
+            auto it = cells.find({centre[0] + a, centre[1] + b, centre[2] + e});
+            if (it == cells.end()) continue;
+            for (int k : it->second)
+              if (!visit(k)) return;
+          }
+    }
+
+   private:
+    using Cell = std::array<long long, 3>;
+    const std::vector<double> &records;
+    int stride, offset;
+    double cell;
+    std::map<Cell, std::vector<int>> cells;
+    Cell cell_of(const double *X) const;
+  };
+
+  // the smallest distance between two of the packed points, or 'reach' if
+  // none is nearer than that; the same on every rank given the same records
   double nearest_distance(const std::vector<double> &records, int stride, int offset, double reach);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
