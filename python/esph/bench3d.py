@@ -12,7 +12,7 @@ import sys
 from .paths import lmp_binary
 from .problems import BEAM3D
 from .report import command_line, machine, print_head
-from .runner import RunError, _var_args, run_mpirun
+from .runner import RunError, _var_args, mpirun_command, run_mpirun
 
 SOLVERS = ("direct", "mumps", "petsc")
 
@@ -32,7 +32,7 @@ _SUMMARY_RE = re.compile(r"^\s+min_style sph/newton: (\d+ (?:solves|MUMPS solves
 def run_measured(variables: dict, nprocs: int, timeout: float) -> dict:
     """One run of the 3D beam script: its RESULT values, wall time, the
     largest peak memory of a rank (MB) and the solver's summary line."""
-    cmd = (["mpirun", "--oversubscribe", "-np", str(nprocs), sys.executable, "-c", _WRAP,
+    cmd = (mpirun_command(nprocs) + [sys.executable, "-c", _WRAP,
             lmp_binary(), "-in", BEAM3D.name, "-log", "none", "-nocite"] + _var_args(variables))
     launch = run_mpirun(cmd, BEAM3D.parent, timeout)
     text = launch.proc.stdout + launch.proc.stderr

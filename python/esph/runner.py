@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import functools
 import re
 import shutil
 import subprocess
@@ -115,6 +116,29 @@ def mpi_environment(session: str) -> dict:
                 OMPI_MCA_orte_tmpdir_base=session)
 
 
+@functools.lru_cache(maxsize=None)
+def mpi_flavour(launcher: str = "mpirun") -> str:
+    """'openmpi' or 'mpich' (Hydra), from `mpirun --version`; 'unknown' else."""
+    try:
+        text = subprocess.run([launcher, "--version"], capture_output=True, text=True,
+                              timeout=30, env=clean_environment()).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        return "unknown"
+    if "Open MPI" in text or "OpenRTE" in text:
+        return "openmpi"
+    if "HYDRA" in text or "MPICH" in text:
+        return "mpich"
+    return "unknown"
+
+
+def mpirun_command(nprocs: int) -> list[str]:
+    """The start of an mpirun command line for nprocs ranks, with the options
+    of the MPI found: Open MPI needs --oversubscribe to start more ranks than
+    cores; MPICH's Hydra starts them anyway and rejects the option."""
+    extra = ["--oversubscribe"] if mpi_flavour() == "openmpi" else []
+    return ["mpirun", *extra, "-np", str(nprocs)]
+
+
 @dataclass
 class Launch:
     proc: subprocess.CompletedProcess
@@ -165,7 +189,7 @@ def run_mpi(script: Path, variables: dict, nprocs: int, extra: list[str] | None 
             timeout: float = 1800) -> RunResult:
     """Run `script` with `mpirun -np nprocs lmp`; values are taken from lines
     `RESULT name value` that the script prints."""
-    cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp_binary(), "-in", script.name,
+    cmd = mpirun_command(nprocs) + [lmp_binary(), "-in", script.name,
            "-log", "none", "-nocite"] + _var_args(variables) + (extra or [])
     launch = run_mpirun(cmd, script.parent, timeout)
     proc = launch.proc

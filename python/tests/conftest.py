@@ -100,10 +100,10 @@ def run_lmp(script: str, tmp_path, nprocs: int = 1, timeout: float = 60.0):
     ranks) in tmp_path; returns (return code, stdout + stderr).  A run that
     hangs raises subprocess.TimeoutExpired."""
     from esph.paths import lmp_binary
-    from esph.runner import run_mpirun
+    from esph.runner import mpirun_command, run_mpirun
     path = tmp_path / "in.case"
     path.write_text(script)
-    cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp_binary(), "-in", path.name,
+    cmd = mpirun_command(nprocs) + [lmp_binary(), "-in", path.name,
            "-log", "none", "-nocite", "-echo", "none"]
     launch = run_mpirun(cmd, tmp_path, timeout)
     return launch.proc.returncode, launch.proc.stdout + launch.proc.stderr

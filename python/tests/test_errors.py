@@ -7,6 +7,7 @@ import subprocess
 
 from conftest import block, make_lammps
 from esph.paths import lmp_binary
+from esph.runner import mpirun_command
 
 BASE = """
 units si
@@ -283,7 +284,7 @@ def test_partner_beyond_ghost_cutoff_is_an_error(tmp_path):
     must stop and say what to set, not compute with missing partners."""
     script = tmp_path / "in.lost"
     script.write_text(LOST_PARTNER)
-    proc = subprocess.run(["mpirun", "--oversubscribe", "-np", "2", lmp_binary(), "-in", str(script),
+    proc = subprocess.run(mpirun_command(2) + [lmp_binary(), "-in", str(script),
                            "-log", "none", "-nocite"], capture_output=True, text=True, timeout=120,
                           env={**__import__("os").environ, "OMPI_ALLOW_RUN_AS_ROOT": "1",
                                "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"})

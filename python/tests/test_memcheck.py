@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from esph.paths import lmp_binary
-from esph.runner import run_mpirun
+from esph.runner import mpirun_command, run_mpirun
 
 from conftest import jiggled_block
 
@@ -108,7 +108,7 @@ def valgrind_cmd(nprocs: int) -> list[str]:
           f"--suppressions={supp}"]
     if nprocs == 1:
         return vg
-    return ["mpirun", "--oversubscribe", "-np", str(nprocs)] + vg
+    return mpirun_command(nprocs) + vg
 
 
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind not installed")

@@ -148,3 +148,29 @@ def test_a_second_lost_run_is_a_failure(tmp_path):
         launch = run_mpirun(_fake_mpirun(tmp_path, races=2), tmp_path, timeout=30)
     assert launch.proc.returncode == 1
     assert (tmp_path / "count").read_text().strip() == "2"
+
+
+@pytest.mark.parametrize("banner,flavour,oversubscribe", [
+    ("mpirun (Open MPI) 4.1.4\n\nReport bugs to http://www.open-mpi.org/community/help/",
+     "openmpi", True),
+    ("HYDRA build details:\n    Version:                                 4.1.2\n", "mpich", False),
+])
+def test_mpirun_options_follow_the_mpi_library(tmp_path, monkeypatch, banner, flavour,
+                                               oversubscribe):
+    """Open MPI needs --oversubscribe for more ranks than cores; MPICH's Hydra
+    (the pip route's MPI) rejects it: the flavour is read from the launcher."""
+    import esph.runner as runner
+    fake = tmp_path / "mpirun"
+    fake.write_text(f"#!/bin/sh\ncat <<'END'\n{banner}\nEND\n")
+    fake.chmod(0o755)
+    assert runner.mpi_flavour(str(fake)) == flavour
+    monkeypatch.setattr(runner, "mpi_flavour", lambda launcher="mpirun": flavour)
+    cmd = runner.mpirun_command(3)
+    assert cmd[0] == "mpirun" and cmd[-2:] == ["-np", "3"]
+    assert ("--oversubscribe" in cmd) == oversubscribe
+
+
+def test_this_machine_runs_open_mpi():
+    """Debian's Open MPI, which the in-tree build and PETSc use."""
+    from esph.runner import mpi_flavour
+    assert mpi_flavour() == "openmpi"

@@ -15,7 +15,7 @@ import pytest
 
 from conftest import lattice_2d_script
 from esph.paths import EXAMPLES, ROOT, lmp_binary, plugin_route
-from esph.runner import run_mpirun
+from esph.runner import mpirun_command, run_mpirun
 
 RESULT = re.compile(r"^RESULT (\S+) (\S+)", re.M)
 
@@ -65,7 +65,7 @@ def run_host(script: str, tmp_path: Path, nprocs: int = 1, env: dict | None = No
     host, _ = plugin_route()
     path = tmp_path / "in.case"
     path.write_text(script)
-    cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp or host, "-in", path.name,
+    cmd = mpirun_command(nprocs) + [lmp or host, "-in", path.name,
            "-log", "none", "-nocite", "-echo", "none"]
     return launch(cmd, tmp_path, env)
 
@@ -179,7 +179,7 @@ def test_examples_through_the_plugin_give_the_in_tree_results(folder, script, va
     args = [a for k, v in variables.items() for a in ("-var", k, str(v))]
     outputs = []
     for lmp, env in ((lmp_binary(), {}), (host, {"LAMMPS_PLUGIN_PATH": str(plugins)})):
-        cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs), lmp, "-in",
+        cmd = mpirun_command(nprocs) + [lmp, "-in",
                str(EXAMPLES / folder / script), "-log", "none", "-nocite", "-echo", "none"] + args
         # in the example's folder: inputs include ../common; they write no files
         rc, out = launch(cmd, EXAMPLES / folder, env)
