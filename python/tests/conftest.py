@@ -35,6 +35,22 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
     """)
 
 
+def input_head(dim: int, boundary: str, lattice: str, region: str, extra: str = "") -> str:
+    """Input lines up to create_box for atom_style sph/elastic: a si box
+    `region block <region>` on `lattice <lattice>`; `extra` lines go before
+    the lattice."""
+    return f"""
+units si
+dimension {dim}
+boundary {boundary}
+atom_style sph/elastic
+atom_modify map array
+{extra}lattice {lattice}
+region box block {region}
+create_box 1 box
+"""
+
+
 def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None = None) -> str:
     """Input lines up to create_box of a dim-d si box 'xlo xhi ylo yhi [zlo
     zhi]' (lattice units) for atom_style sph/elastic, on a square (cubic)
@@ -42,16 +58,7 @@ def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None 
     lattice, origin = ("sq", "0.5 0.5 0.0") if dim == 2 else ("sc", "0.5 0.5 0.5")
     boundary = boundary or ("s s p" if dim == 2 else "s s s")
     thin = " -0.5 0.5" if dim == 2 else ""
-    return f"""
-units si
-dimension {dim}
-boundary {boundary}
-atom_style sph/elastic
-atom_modify map array
-lattice {lattice} {dx} origin {origin}
-region box block {box}{thin}
-create_box 1 box
-"""
+    return input_head(dim, boundary, f"{lattice} {dx} origin {origin}", box + thin)
 
 
 def lattice_2d_script(box: str, dx: float = 1.0e-3) -> str:
@@ -114,17 +121,8 @@ def jiggled_block(dim: int, boundary: str, lattice: str, region: str, dz: float)
     displaced at random (5e-5 m in x and y, dz in z) and given a random
     velocity: V = 1e-9 m^3 and m = 1e-6 kg each.  The start of the MPI and
     memcheck runs; the pair style and timestep are the caller's."""
-    return f"""
-units si
-dimension {dim}
-boundary {boundary}
-atom_style sph/elastic
-atom_modify map array
-comm_modify vel yes
-lattice {lattice}
-region box block {region}
-create_box 1 box
-create_atoms 1 box
+    head = input_head(dim, boundary, lattice, region, "comm_modify vel yes\n")
+    return head + f"""create_atoms 1 box
 set group all volume 1e-9
 set group all mass 1e-6
 set group all mol 1
