@@ -28,7 +28,7 @@ macro(esph_find_solvers)
     find_library(CHOLMOD_LIBRARY cholmod)
     find_library(SUITESPARSECONFIG_LIBRARY suitesparseconfig)
     if(CHOLMOD_INCLUDE_DIR AND CHOLMOD_LIBRARY AND SUITESPARSECONFIG_LIBRARY)
-      message(STATUS "USER-ELASTIC-SPH: min_style sph/newton uses CHOLMOD (${CHOLMOD_LIBRARY})")
+      message(STATUS "ELASTIC-SPH: min_style sph/newton uses CHOLMOD (${CHOLMOD_LIBRARY})")
       set(ESPH_CHOLMOD_DEFINES ESPH_HAVE_CHOLMOD)
       set(ESPH_CHOLMOD_INCLUDE ${CHOLMOD_INCLUDE_DIR})
       set(ESPH_CHOLMOD_LIBS ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
@@ -43,7 +43,7 @@ macro(esph_find_solvers)
         list(APPEND ESPH_CHOLMOD_LIBS ${OpenMP_CXX_LIBRARIES})
       endif()
     else()
-      message(STATUS "USER-ELASTIC-SPH: CHOLMOD not found (Debian: libsuitesparse-dev); "
+      message(STATUS "ELASTIC-SPH: CHOLMOD not found (Debian: libsuitesparse-dev); "
         "min_style sph/newton uses Eigen's SimplicialLDLT")
     endif()
   endif()
@@ -53,12 +53,12 @@ macro(esph_find_solvers)
       pkg_check_modules(ESPH_PETSC_PC QUIET PETSc)
     endif()
     if(ESPH_PETSC_PC_FOUND)
-      message(STATUS "USER-ELASTIC-SPH: min_style sph/newton can solve with PETSc "
+      message(STATUS "ELASTIC-SPH: min_style sph/newton can solve with PETSc "
         "${ESPH_PETSC_PC_VERSION}")
       set(ESPH_PETSC_INCLUDE ${ESPH_PETSC_PC_INCLUDE_DIRS})
       set(ESPH_PETSC_LIBS ${ESPH_PETSC_PC_LINK_LIBRARIES})
     else()
-      message(STATUS "USER-ELASTIC-SPH: PETSc not found (Debian: libpetsc-real-dev); "
+      message(STATUS "ELASTIC-SPH: PETSc not found (Debian: libpetsc-real-dev); "
         "min_style sph/newton solves on rank 0 only")
     endif()
   endif()

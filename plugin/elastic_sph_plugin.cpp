@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    The package as a LAMMPS plugin: `plugin load elasticsphplugin.so`, or
    loaded by itself from a folder in LAMMPS_PLUGIN_PATH.  The same sources
    as the in-tree package; this file only registers their styles.
@@ -65,7 +65,7 @@ using namespace LAMMPS_NS;
 #endif
 
 namespace {
-const char *const AUTHOR = "USER-ELASTIC-SPH developers";
+const char *const AUTHOR = "ELASTIC-SPH developers";
 
 template <class T> void *new_pair(void *lmp)
 {
@@ -124,19 +124,19 @@ void check_host(LAMMPS *lmp)
 {
   if (std::string(ESPH_BUILT_FOR) != lmp->version)
     lmp->error->all(FLERR,
-                    "The USER-ELASTIC-SPH plugin was built for LAMMPS version {} but is loaded "
+                    "The ELASTIC-SPH plugin was built for LAMMPS version {} but is loaded "
                     "into LAMMPS version {}: build it against this LAMMPS's source tree "
                     "(plugin/README.md)",
                     ESPH_BUILT_FOR, lmp->version);
   const std::string built = compiled_mpi(), running = running_mpi();
   if (!built.empty() && !running.empty() && built != running)
     lmp->error->all(FLERR,
-                    "The USER-ELASTIC-SPH plugin was built with {} but this LAMMPS runs on {}: "
+                    "The ELASTIC-SPH plugin was built with {} but this LAMMPS runs on {}: "
                     "build the plugin with the MPI library LAMMPS uses",
                     built, running);
   if (lmp->force->pair_map->count("sph/icb"))
     lmp->error->all(FLERR,
-                    "Pair style sph/icb exists already: the USER-ELASTIC-SPH plugin is loaded, or "
+                    "Pair style sph/icb exists already: the ELASTIC-SPH plugin is loaded, or "
                     "the package is compiled into this LAMMPS; load the plugin once, into a "
                     "LAMMPS without the package");
 }
@@ -149,7 +149,7 @@ void register_style(lammpsplugin_regfunc add, void *lmp, void *handle, const cha
   plugin.version = ESPH_BUILT_FOR;
   plugin.style = style;
   plugin.name = name;
-  plugin.info = "USER-ELASTIC-SPH: elastic solids by SPH";
+  plugin.info = "ELASTIC-SPH: elastic solids by SPH";
   plugin.author = AUTHOR;
   if (creator1)
     plugin.creator.v1 = creator1;

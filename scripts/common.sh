@@ -5,7 +5,7 @@
 set -euo pipefail
 
 ESPH_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-ESPH_CACHE=${ESPH_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/user-elastic-sph}
+ESPH_CACHE=${ESPH_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/elastic-sph}
 
 # Pinned LAMMPS: Debian's source package of the 4 Feb 2025 release.
 LAMMPS_DEB_VERSION=20250204+dfsg.1-2

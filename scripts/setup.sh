@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Install what is missing and build LAMMPS with USER-ELASTIC-SPH compiled in.
+# Install what is missing and build LAMMPS with ELASTIC-SPH compiled in.
 # Idempotent: a second run with nothing changed only checks and returns.
 #
 #   scripts/setup.sh            everything (system packages, LAMMPS source, build, venv)
 #   scripts/setup.sh --plugin   also a plain LAMMPS with the PLUGIN package and
 #                               the package built as a plugin for it (tests)
 #   LAMMPS_SOURCE_DIR=/path     use your own LAMMPS tree instead of the pinned one
-#   ESPH_CACHE=/path            where source, build and venv live (default ~/.cache/user-elastic-sph)
+#   ESPH_CACHE=/path            where source, build and venv live (default ~/.cache/elastic-sph)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 APT_PACKAGES=(build-essential cmake ninja-build ccache pkg-config xz-utils
@@ -29,7 +29,7 @@ install_system_packages() {
 # Add a deb-src entry for trixie on the mirror this machine already uses, so
 # `apt-get source` can fetch the pinned LAMMPS. No address is written into the repo.
 ensure_deb_src() {
-  local list=/etc/apt/sources.list.d/user-elastic-sph-src.sources
+  local list=/etc/apt/sources.list.d/elastic-sph-src.sources
   [ -f "$list" ] && return 0
   local uri
   uri=$(awk '/^URIs:/ {print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
@@ -81,7 +81,7 @@ configure_and_build() {
     pack_googletest
     local launcher=()
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-    say "configuring LAMMPS + USER-ELASTIC-SPH in $ESPH_BUILD"
+    say "configuring LAMMPS + ELASTIC-SPH in $ESPH_BUILD"
     cmake -S "$ESPH_ROOT" -B "$ESPH_BUILD" -G Ninja "${launcher[@]}" \
       -DLAMMPS_ROOT="$LAMMPS_SOURCE_DIR" -DCMAKE_BUILD_TYPE=Release \
       -DBUILD_MPI=on -DBUILD_OMP=off -DBUILD_SHARED_LIBS=on -DLAMMPS_EXCEPTIONS=on \

@@ -77,7 +77,7 @@ def results(out: str) -> dict:
 def package_styles() -> dict:
     """kind -> names of the styles the package's headers declare."""
     styles: dict = {}
-    for header in (ROOT / "src" / "USER-ELASTIC-SPH").glob("*.h"):
+    for header in (ROOT / "src" / "ELASTIC-SPH").glob("*.h"):
         for kind, name in re.findall(r"^(\w+)Style\(([^,]+),", header.read_text(), re.M):
             styles.setdefault(kind, set()).add(name)
     return styles
@@ -142,7 +142,7 @@ def test_a_second_load_is_an_error(tmp_path):
     _, plugin = plugin_route()
     rc, out = run_host(f"plugin load {plugin}\nplugin load {plugin}\n", tmp_path)
     assert rc != 0
-    assert "Pair style sph/icb exists already: the USER-ELASTIC-SPH plugin is loaded" in out
+    assert "Pair style sph/icb exists already: the ELASTIC-SPH plugin is loaded" in out
 
 
 def test_the_plugin_into_a_lammps_with_the_package_is_an_error(tmp_path):

@@ -17,7 +17,7 @@ def test_sources_are_clang_formatted_with_lammps_style():
 
 
 def test_no_line_longer_than_100_columns():
-    long = [f"{path.name}:{n}" for path in sorted((ROOT / "src" / "USER-ELASTIC-SPH").glob("*.[ch]*"))
+    long = [f"{path.name}:{n}" for path in sorted((ROOT / "src" / "ELASTIC-SPH").glob("*.[ch]*"))
             for n, line in enumerate(path.read_text().splitlines(), 1) if len(line) > 100]
     assert not long, long
 

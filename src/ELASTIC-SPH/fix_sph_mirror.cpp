@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Odd-mirror clamp: with u(X') = -u(X) for the mirror image X' of X,
    the displacement field continues smoothly through the plane and is zero
    on it, so the particles next to the clamp see a complete, exact support

@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
 
    Body forces on elastic bodies.  LAMMPS's fix gravity acts in dynamics
    only (it has no min_post_force), so a minimiser never sees the weight;

@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
 
    A particle's own value sits at its reference position X_i, which is
    half a spacing inside a surface: the mean of a column of particles

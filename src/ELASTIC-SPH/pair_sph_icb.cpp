@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Total Lagrangian (initial-configuration based) SPH for elastic solids
    after Tran-Duc, Meylan, Thamwattana, ANZIAM J. 65 (2023).
 ------------------------------------------------------------------------- */

@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
 
    The strain energy of a body is the particle sum sum_i V_i W(F_i), a
    midpoint rule.  Along a row of n cells it misses (h^2/24) [f'(b) -

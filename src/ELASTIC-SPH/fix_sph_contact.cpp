@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Contact between elastic SPH bodies after Tran-Duc, Meylan, Thamwattana,
    ANZIAM J. 65 (2023), section 2.5.
 ------------------------------------------------------------------------- */

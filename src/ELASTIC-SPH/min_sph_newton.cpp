@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Newton's method with a sparse direct solve for pair_style sph/icb.
    Conjugate gradients need tens of thousands of iterations on a slender
    beam (the stiffness matrix's condition number grows like (L/dx)^2 (L/H)^2);

@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    A clamp on a surface the body's particles are not aligned with is a
    mirror of the particles themselves: the image of each atom near the
    surface, taken along the surface's normal, follows it (fix sph/mirror).

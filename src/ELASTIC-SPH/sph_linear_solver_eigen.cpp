@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
 ------------------------------------------------------------------------- */
 
 #include "sph_linear_solver_eigen.h"

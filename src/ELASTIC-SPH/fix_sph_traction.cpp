@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
 
    Consistent surface loads.  Under a uniform first Piola-Kirchhoff
    stress P the internal force of pair sph/icb on particle i is

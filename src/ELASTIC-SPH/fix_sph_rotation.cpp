@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Rotation extraction after Mueller, Bender, Chentanez, Macklin (2016),
    "A robust method to extract the rotational part of deformations".
 ------------------------------------------------------------------------- */

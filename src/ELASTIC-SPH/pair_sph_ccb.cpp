@@ -12,7 +12,7 @@
 ------------------------------------------------------------------------- */
 
 /* ----------------------------------------------------------------------
-   Contributing author: USER-ELASTIC-SPH developers
+   Contributing author: ELASTIC-SPH developers
    Total Lagrangian (initial-configuration based) SPH for elastic solids
    Current-configuration (updated Lagrangian) SPH for elastic solids
    (Gray, Monaghan & Swift 2001; CCB/CCBWAT of Tran-Duc et al. 2023).
