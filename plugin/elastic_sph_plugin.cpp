@@ -40,6 +40,7 @@
 #include "fix_sph_bodyforce.h"
 #include "fix_sph_ccb_nve.h"
 #include "fix_sph_contact.h"
+#include "fix_sph_minimize_check.h"
 #include "fix_sph_mirror.h"
 #include "fix_sph_partners.h"
 #include "fix_sph_rotation.h"
@@ -175,6 +176,8 @@ extern "C" void lammpsplugin_init(void *ptr, void *handle, void *regfunc)
   register_style(add, ptr, handle, "fix", "sph/ccb/nve", nullptr, &new_styled<FixSPHCCBNVE>);
   register_style(add, ptr, handle, "fix", "sph/contact", nullptr, &new_styled<FixSPHContact>);
   register_style(add, ptr, handle, "fix", "sph/mirror", nullptr, &new_styled<FixSPHMirror>);
+  register_style(add, ptr, handle, "fix", "SPH_MINIMIZE_CHECK", nullptr,
+                 &new_styled<FixSPHMinimizeCheck>);
   register_style(add, ptr, handle, "fix", "SPH_PARTNERS", nullptr, &new_styled<FixSPHPartners>);
   register_style(add, ptr, handle, "fix", "sph/rotation", nullptr, &new_styled<FixSPHRotation>);
   register_style(add, ptr, handle, "fix", "sph/traction", nullptr, &new_styled<FixSPHTraction>);

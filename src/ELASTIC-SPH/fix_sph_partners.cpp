@@ -112,7 +112,7 @@ FixSPHPartners::~FixSPHPartners()
 
 int FixSPHPartners::setmask()
 {
-  return PRE_EXCHANGE | PRE_FORCE | MIN_PRE_FORCE | POST_RUN;
+  return PRE_EXCHANGE | PRE_FORCE | MIN_PRE_FORCE;
 }
 
 /* ----------------------------------------------------------------------
@@ -159,18 +159,6 @@ void FixSPHPartners::pre_exchange()
                atom->tag[i], partner[i][worst], pdata[i][worst * NPDATA + R0], longest,
                update->ntimestep, BLOWUP_SUPPORTS, advice);
   }
-}
-
-/* ----------------------------------------------------------------------
-   the end of a minimisation is where the pair style checks that the state
-   it reached is a sound equilibrium
-------------------------------------------------------------------------- */
-
-void FixSPHPartners::post_run()
-{
-  if (update->whichflag != 2) return;
-  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair);
-  if (pair) pair->check_minimized_state();
 }
 
 /* ---------------------------------------------------------------------- */

@@ -71,7 +71,6 @@ class FixSPHPartners : public Fix {
   void set_gradient_order(int, const char *);    // 1 linear, 2 quadratic
   // refuse a pair style that cannot continue from a state another style built
   void set_builder(const char *, bool needs_own_state);
-  void post_run() override;
   bool built() const { return !first; }
   // build the partners now if they were not (a fix whose setup would move
   // atoms away from their reference neighbours first)

@@ -31,6 +31,7 @@
 #include "modify.h"
 #include "output.h"
 #include "pair_sph_icb.h"
+#include "sph_icb_linearisation.h"
 #include "sph_krylov.h"
 #include "sph_linear_solver_eigen.h"
 #include "sph_linear_solver_petsc.h"
@@ -247,7 +248,8 @@ int MinSPHNewton::iterate(int maxiter)
 void MinSPHNewton::start()
 {
   dofs->find(vflag);
-  hessian = std::make_unique<FreeHessian>(atom, *pair, *dofs);
+  linearisation = std::make_unique<ICBLinearisation>(lmp, *pair);
+  hessian = std::make_unique<FreeHessian>(atom, *linearisation, *dofs);
   solver->reset(dofs->nfree());
   if (comm->me == 0) {
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
@@ -322,7 +324,7 @@ int MinSPHNewton::newton_loop(int maxiter)
 
 void MinSPHNewton::newton_step(double tol)
 {
-  if (pair->hessian_is_exact() || solver->matrix_free()) {
+  if (linearisation->hessian_is_exact() || solver->matrix_free()) {
     dofs->free_force(force_share);
     solver->solve(force_share, step);
     return;
@@ -355,7 +357,7 @@ bool MinSPHNewton::saddle_point()
 {
   if (!pair->has_energy()) return false;
   if (solver->indefinite()) return true;
-  if (pair->hessian_is_exact() || solver->matrix_free()) return false;
+  if (linearisation->hessian_is_exact() || solver->matrix_free()) return false;
 
   // the same start on every rank, and on any number of ranks
   std::vector<double> start(dofs->nfree());
@@ -687,7 +689,7 @@ double MinSPHNewton::forcing_term(double previous_eta, double fsq, double fsq_pr
 
 void MinSPHNewton::pk1_inverse(const std::vector<double> &v, std::vector<double> &z)
 {
-  if (pair->hessian_is_exact() || solver->matrix_free()) {
+  if (linearisation->hessian_is_exact() || solver->matrix_free()) {
     precondition(v, z);
     return;
   }

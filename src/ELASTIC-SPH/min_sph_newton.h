@@ -33,6 +33,7 @@ namespace LAMMPS_NS {
 
 namespace SPHElastic {
   class FreeHessian;
+  class ICBLinearisation;
   class LinearSolver;
   class NewtonDofs;
 }    // namespace SPHElastic
@@ -62,6 +63,7 @@ class MinSPHNewton : public MinLineSearch {
   int automatic_backend();
   class PairSPHICB *pair;
   std::unique_ptr<SPHElastic::NewtonDofs> dofs;
+  std::unique_ptr<SPHElastic::ICBLinearisation> linearisation;
   std::unique_ptr<SPHElastic::FreeHessian> hessian;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
   int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT

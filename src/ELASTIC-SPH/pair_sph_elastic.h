@@ -65,8 +65,6 @@ class PairSPHElastic : public Pair {
   // local indices of owned atom i's reference partners as the last force
   // computation found them, or nullptr if there are none that are current
   virtual const int *partner_indices(int) const { return nullptr; }
-  // called by the partners fix at the end of every minimisation
-  virtual void check_minimized_state() {}
   // what to tell a user whose run failed at this step: the timestep against
   // the stable estimate
   std::string instability_advice() const;

@@ -24,15 +24,14 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_sph_mirror.h"
 #include "fix_sph_partners.h"
 #include "fix_sph_rotation.h"
 #include "memory.h"
-#include "min.h"
 #include "modify.h"
 #include "neighbor.h"
 #include "sph_elastic_math.h"
 #include "sph_elastic_mpi.h"
+#include "sph_pair_sweeps.h"
 #include "update.h"
 
 #include <algorithm>
@@ -67,20 +66,13 @@ static const char cite_pair_sph_icb[] =
 
 /* ---------------------------------------------------------------------- */
 
-enum { COMM_DEFGRAD, COMM_QSTRESS, COMM_PRODUCT_V, COMM_PRODUCT_Q };
-
-/* ---------------------------------------------------------------------- */
-
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
-    PairSPHElastic(lmp), rotfix(nullptr), defgrad(nullptr), qstress(nullptr), jlocal(nullptr),
-    npairs(0), maxpairs(0), directed_pairs(false), pair_atoms(nullptr), pair_g(nullptr),
-    maxpairs_hg(0), pair_hg(nullptr), vproduct(nullptr), dqstress(nullptr), dfproduct(nullptr),
-    ncompute(0), tangents_stamp(-1)
+    PairSPHElastic(lmp), rotfix(nullptr), comm_array(nullptr), comm_width(9), defgrad(nullptr),
+    qstress(nullptr), jlocal(nullptr), sweeps(new SPHElastic::PairSweeps(memory)), ncompute(0)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
   mirror_groupbit = 0;
-  comm_what = COMM_QSTRESS;
   nmax_work = maxlocal = 0;
   jlocal_builds = -1;
   jlocal_nlocal = -1;
@@ -99,12 +91,6 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(defgrad);
   memory->destroy(qstress);
   memory->destroy(jlocal);
-  memory->destroy(pair_atoms);
-  memory->destroy(pair_g);
-  memory->destroy(pair_hg);
-  memory->destroy(vproduct);
-  memory->destroy(dqstress);
-  memory->destroy(dfproduct);
 }
 
 /* ----------------------------------------------------------------------
@@ -182,6 +168,10 @@ void PairSPHICB::init_style()
   jlocal_builds = -1;     // neighbor->ncalls restarts from 0 at every init
   mirror_groupbit = 0;    // fix sph/mirror, initialised after the pair, sets it again
 
+  // the check of the state every minimisation ends in
+  if (modify->get_fix_by_style("^SPH_MINIMIZE_CHECK$").empty())
+    modify->add_fix("SPH_MINIMIZE_CHECK all SPH_MINIMIZE_CHECK");
+
   auto fixes = modify->get_fix_by_style("^sph/rotation$");
   rotfix = fixes.empty() ? nullptr : dynamic_cast<FixSPHRotation *>(fixes.front());
   if (!rotfix && measure == COROTATED)
@@ -215,9 +205,9 @@ void PairSPHICB::compute(int eflag, int vflag)
   for (int i = 0; i < nlocal; i++)
     for (int a = 0; a < 9; a++) defgrad[i][a] = 0.0;
   if (two_d)
-    pair_gradients<2>(atom->x, defgrad);
+    sweeps->gradients<2>(nlocal, atom->x, defgrad);
   else
-    pair_gradients<3>(atom->x, defgrad);
+    sweeps->gradients<3>(nlocal, atom->x, defgrad);
   for (int i = 0; i < nlocal; i++) {
     const double e = stress_pass(i);
     if (eflag_global) eng_vdwl += e;
@@ -225,21 +215,19 @@ void PairSPHICB::compute(int eflag, int vflag)
   }
 
   if (hourglass > 0.0) {
-    comm_what = COMM_DEFGRAD;
-    comm->forward_comm(this);
+    forward_comm_array(defgrad, 9);
     if (two_d)
       hourglass_pairs<2>();
     else
       hourglass_pairs<3>();
   }
 
-  comm_what = COMM_QSTRESS;
-  comm->forward_comm(this);
+  forward_comm_array(qstress, 9);
 
   if (two_d)
-    pair_divergence<2, true>(qstress, atom->f[0]);
+    force_divergence<2>();
   else
-    pair_divergence<3, true>(qstress, atom->f[0]);
+    force_divergence<3>();
 
   // the scale of the residual when a minimisation ends
   if (update->whichflag == 2) {
@@ -267,109 +255,15 @@ bigint PairSPHICB::count_inverted(tagint &id, double &det, int &type) const
 }
 
 /* ----------------------------------------------------------------------
-   a minimisation must end in a sound equilibrium.  A law whose energy
-   stays finite through det F = 0 (St. Venant-Kirchhoff) lets a minimiser
-   converge to a body turned inside out: that is an error, explained by
-   the law.  A minimisation that stopped on its iteration or evaluation
-   limit, or whose line search gave up far from equilibrium, gets a
-   warning with its residual.
+   the norm of the pair forces of the last force computation of a
+   minimisation, the scale its residual is judged by.  Collective
 ------------------------------------------------------------------------- */
 
-void PairSPHICB::check_minimized_state()
+double PairSPHICB::internal_force_norm() const
 {
-  tagint id;
-  double det;
-  int type;
-  const bigint n = count_inverted(id, det, type);
-  if (n > 0)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Minimize ended with {} inverted particles, e.g. atom {} (det F = {:.6g}): the body "
-               "turned inside out. {}",
-               n, id, det, materials[type]->inversion_advice());
-  report_minimize_residual();
-}
-
-/* ---------------------------------------------------------------------- */
-
-void PairSPHICB::report_minimize_residual()
-{
-  // a line search that gives up with a residual this small has converged
-  // as far as round-off allows
-  constexpr double RESIDUAL_OK = 1.0e-6;
-  // a residual this small is an equilibrium whatever stopped the minimiser
-  constexpr double RESIDUAL_ROUNDOFF = 1.0e-10;
-  // a residual this much larger than the elastic forces: the body never took the load
-  constexpr double LOAD_UNSEEN = 1.0e3;
-  Min *min = update->minimize;
-  const int stop = min->stop_condition;
-  const bool limit = stop == Min::MAXITER || stop == Min::MAXEVAL || stop == Min::TIMEOUT ||
-      stop == Min::MAXVDOTF;
-  const bool search_failed = stop == Min::DOWNHILL || stop == Min::ZEROALPHA ||
-      stop == Min::ZEROQUAD || stop == Min::TRSMALL || stop == Min::INTERROR;
-  if (!limit && !search_failed) return;
-
-  const double residual = sqrt(min->fnorm_sqr());
-  double internal = 0.0;
-  MPI_Allreduce(&internal_fsq, &internal, 1, MPI_DOUBLE, MPI_SUM, world);
-  internal = sqrt(internal);
-  const double ratio = internal > 0.0 ? residual / internal : 0.0;
-  if (search_failed && ratio <= RESIDUAL_OK) return;
-  if (ratio <= RESIDUAL_ROUNDOFF) {
-    if (comm->me == 0)
-      error->warning(FLERR,
-                     "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
-                     "force norm {:.6g}: an equilibrium to round-off; the force tolerance {:.3g} "
-                     "asks for less than double precision resolves",
-                     min->stopstr, residual, ratio, internal, update->ftol);
-    return;
-  }
-  // Newton that fails is rarely short of iterations: the load is more than
-  // the body or its law can carry, or the minimiser cannot see the load
-  const bool newton = utils::strmatch(update->minimize_style, "^sph/newton");
-  std::string advice;
-  if (search_failed && ratio > LOAD_UNSEEN)
-    advice = "The body hardly deformed: the minimiser sees no energy in the load (give its fix "
-             "'fix_modify ID energy yes') or the load cannot move the atoms it acts on";
-  else if (newton && !displacing_mirror().empty())
-    advice = fmt::format(
-        "Fix {} sph/mirror prescribes a displacement of {:.6g} in one minimisation, which "
-        "Newton may not reach from the state it starts from: apply it in increments (a loop of "
-        "minimize commands, each with a larger 'displace v_u'; 4 reached a 10 % platen "
-        "compression that one could not), then check the law's limits (St. Venant-Kirchhoff "
-        "has no equilibrium in compression beyond a stretch of 1/sqrt(3))",
-        displacing_mirror(), displacing_size());
-  else if (newton)
-    advice = "If Newton's force norm stalled, the load may be more than the body can carry: "
-             "St. Venant-Kirchhoff has no equilibrium in compression beyond a stretch of "
-             "1/sqrt(3) (use the neohookean law), or the body lost stability; else raise the "
-             "iteration limits";
-  else
-    advice = "Raise the iteration limits, or use min_style sph/newton (stress pk1)";
-  if (comm->me == 0)
-    error->warning(FLERR,
-                   "Minimize stopped on '{}' with force norm {:.6g}, {:.3g} of the elastic "
-                   "force norm {:.6g}: the state is NOT an equilibrium. {}",
-                   min->stopstr, residual, ratio, internal, advice);
-}
-
-/* ----------------------------------------------------------------------
-   the first fix sph/mirror that prescribes a displacement, and its size
-------------------------------------------------------------------------- */
-
-std::string PairSPHICB::displacing_mirror() const
-{
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
-    if (dynamic_cast<FixSPHMirror *>(fix)->displacement_size() > 0.0) return fix->id;
-  return {};
-}
-
-double PairSPHICB::displacing_size() const
-{
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
-    const double size = dynamic_cast<FixSPHMirror *>(fix)->displacement_size();
-    if (size > 0.0) return size;
-  }
-  return 0.0;
+  double all = 0.0;
+  MPI_Allreduce(&internal_fsq, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return sqrt(all);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -382,13 +276,6 @@ void PairSPHICB::grow_work()
     memory->destroy(qstress);
     memory->create(defgrad, nmax_work, 9, "pair:defgrad");
     memory->create(qstress, nmax_work, 9, "pair:qstress");
-    if (vproduct) {
-      memory->destroy(vproduct);
-      memory->destroy(dqstress);
-      memory->create(vproduct, nmax_work, 3, "pair:vproduct");
-      memory->create(dqstress, nmax_work, 9, "pair:dqstress");
-    }
-    memory->destroy(dfproduct);    // created again by the next product that needs it
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -412,7 +299,7 @@ void PairSPHICB::grow_work()
 void PairSPHICB::refresh_partner_indices()
 {
   const int nlocal = atom->nlocal;
-  const bool hourglass_listed = hourglass == 0.0 || pair_hg;
+  const bool hourglass_listed = hourglass == 0.0 || sweeps->has_hourglass_data();
   if (neighbor->ncalls == jlocal_builds && nlocal == jlocal_nlocal && hourglass_listed) return;
   const int mp = partners->maxpartner;
   for (int i = 0; i < nlocal; i++)
@@ -445,20 +332,9 @@ void PairSPHICB::build_pairs()
   const int nlocal = atom->nlocal;
   bigint bound = 0;
   for (int i = 0; i < nlocal; i++) bound += partners->npartner[i];
-  if (bound > maxpairs) {
-    if (bound > MAXSMALLINT / 6)
-      error->one(FLERR, "Pair style sph/icb: too many partner pairs on one processor");
-    maxpairs = static_cast<int>(bound);
-    memory->destroy(pair_atoms);
-    memory->destroy(pair_g);
-    memory->create(pair_atoms, 2 * maxpairs, "pair:pair_atoms");
-    memory->create(pair_g, 6 * (bigint) maxpairs, "pair:pair_g");
-  }
-  if (hourglass > 0.0 && bound > maxpairs_hg) {
-    maxpairs_hg = static_cast<int>(bound);
-    memory->destroy(pair_hg);
-    memory->create(pair_hg, 4 * (bigint) maxpairs_hg, "pair:pair_hg");
-  }
+  if (bound > MAXSMALLINT / 6)
+    error->one(FLERR, "Pair style sph/icb: too many partner pairs on one processor");
+  sweeps->reserve(bound, hourglass > 0.0);
   const tagint *tag = atom->tag;
   std::vector<int> by_id(nlocal);
   for (int i = 0; i < nlocal; i++) by_id[i] = i;
@@ -466,8 +342,7 @@ void PairSPHICB::build_pairs()
     return tag[a] < tag[b];
   });
 
-  directed_pairs = !list_pairs(by_id, false);
-  if (directed_pairs) list_pairs(by_id, true);
+  if (!list_pairs(by_id, false)) list_pairs(by_id, true);
 }
 
 /* ----------------------------------------------------------------------
@@ -484,7 +359,7 @@ bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
   const int dim = domain->dimension;
   const tagint *tag = atom->tag;
   uint64_t listed = 0, skipped = 0;
-  npairs = 0;
+  sweeps->clear(directed);
   for (const int i : order) {
     const double *pd = partners->pdata[i];
     for (int k = 0; k < partners->npartner[i]; k++) {
@@ -497,93 +372,43 @@ bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
         }
         listed += key;
       }
-      pair_atoms[2 * npairs] = i;
-      pair_atoms[2 * npairs + 1] = j;
-      double *g = &pair_g[(bigint) npairs * 2 * dim];
-      for (int a = 0; a < dim; a++) {
-        g[a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ + a];
-        g[dim + a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GJI + a];
-      }
-      if (hourglass > 0.0) {
-        double *hg = &pair_hg[(bigint) npairs * (1 + dim)];
-        hg[0] = bond_stiffness(i, j, pd, k);
-        for (int a = 0; a < dim; a++)
-          hg[1 + a] = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0 + a];
-      }
-      npairs++;
+      const double *record = &pd[k * FixSPHPartners::NPDATA];
+      sweeps->add(i, j, dim, record + FixSPHPartners::GIJ, record + FixSPHPartners::GJI);
+      if (hourglass > 0.0)
+        sweeps->add_hourglass(dim, bond_stiffness(i, j, pd, k), record + FixSPHPartners::DX0);
     }
   }
   return listed == skipped;
 }
 
 /* ----------------------------------------------------------------------
-   grad_i += sum_j (field_j - field_i) (x) g_ij for every owned atom i
-   (3 values per atom in field, 9 row-major in grad), each pair once
-------------------------------------------------------------------------- */
-
-template <int DIM>
-void PairSPHICB::pair_gradients(const double *const *field, double *const *grad) const
-{
-  const int nlocal = atom->nlocal;
-  for (int p = 0; p < npairs; p++) {
-    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-    const double *gij = &pair_g[(bigint) p * 2 * DIM];
-    const double *gji = gij + DIM;
-    double d[DIM];
-    for (int a = 0; a < DIM; a++) d[a] = field[j][a] - field[i][a];
-    double *Gi = grad[i];
-    for (int a = 0; a < DIM; a++)
-      for (int b = 0; b < DIM; b++) Gi[3 * a + b] += d[a] * gij[b];
-    if (!directed_pairs && j < nlocal) {
-      double *Gj = grad[j];
-      for (int a = 0; a < DIM; a++)
-        for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
    f_i += sum_j (Q_i g_ij - Q_j g_ji) for every owned atom i, each pair
-   once (its share to j is the opposite).  FORCE: out is atom->f and the
-   virial is tallied as a full neighbor list would; else out (3 values per
-   owned atom) receives minus that sum, the Hessian product's sign.
+   once (its share to j is the opposite), with the virial tallied as a
+   full neighbor list would
 ------------------------------------------------------------------------- */
 
-template <int DIM, bool FORCE> void PairSPHICB::pair_divergence(const double *const *q, double *out)
+template <int DIM> void PairSPHICB::force_divergence()
 {
-  const double *const *const x = atom->x;
   const int nlocal = atom->nlocal;
-  const double sign = FORCE ? 1.0 : -1.0;
-  for (int p = 0; p < npairs; p++) {
-    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-    const double *gij = &pair_g[(bigint) p * 2 * DIM];
-    const double *gji = gij + DIM;
-    const double *Qi = q[i];
-    const double *Qj = q[j];
-    // in 2d the z row of Q and the z components of g vanish
-    double fij[3] = {0.0, 0.0, 0.0};
-    for (int a = 0; a < DIM; a++) {
-      double qi = 0.0, qj = 0.0;
-      for (int b = 0; b < DIM; b++) {
-        qi += Qi[3 * a + b] * gij[b];
-        qj += Qj[3 * a + b] * gji[b];
-      }
-      fij[a] = sign * (qi - qj);
-    }
-    if (FORCE && vflag_either) {
-      const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-      add_pair_force(i, fij, del);
-      if (!directed_pairs && j < nlocal) {
-        const double fji[3] = {-fij[0], -fij[1], -fij[2]};
-        const double dji[3] = {-del[0], -del[1], -del[2]};
-        add_pair_force(j, fji, dji);
-      }
-      continue;
-    }
-    for (int a = 0; a < DIM; a++) out[3 * i + a] += fij[a];
-    if (!directed_pairs && j < nlocal)
-      for (int a = 0; a < DIM; a++) out[3 * j + a] -= fij[a];
+  double *const *const f = atom->f;
+  if (!vflag_either) {
+    sweeps->divergence<DIM>(nlocal, qstress, 1.0, [f](int i, int j, const double *fij, bool both) {
+      for (int a = 0; a < DIM; a++) f[i][a] += fij[a];
+      if (both)
+        for (int a = 0; a < DIM; a++) f[j][a] -= fij[a];
+    });
+    return;
   }
+  const double *const *const x = atom->x;
+  sweeps->divergence<DIM>(nlocal, qstress, 1.0, [&](int i, int j, const double *fij, bool both) {
+    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    add_pair_force(i, fij, del);
+    if (both) {
+      const double fji[3] = {-fij[0], -fij[1], -fij[2]};
+      const double dji[3] = {-del[0], -del[1], -del[2]};
+      add_pair_force(j, fji, dji);
+    }
+  });
 }
 
 /* ----------------------------------------------------------------------
@@ -678,7 +503,7 @@ double PairSPHICB::stress_pass(int i)
   const bool mirror = atom->mask[i] & mirror_groupbit;
   if (detF <= 0.0 && !mirror) {
     // a minimizer's trial step may invert particles: its line search backs
-    // off, and the final state is checked in check_minimized_state()
+    // off, and fix SPH_MINIMIZE_CHECK checks the final state
     if (update->whichflag == 2) {
       if (ninverted++ == 0) {
         inverted_id = atom->tag[i];
@@ -734,32 +559,11 @@ double PairSPHICB::stress_pass(int i)
    with K's scale (the hourglass springs are alpha times it)
 ------------------------------------------------------------------------- */
 
-inline double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
+double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
 {
   const int *type = atom->type;
   return 0.5 * (youngs[type[i]] + youngs[type[j]]) *
       pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
-}
-
-/* ----------------------------------------------------------------------
-   d = u_j - u_i - (G_i + G_j)/2 X of a field u with gradients G (3x3
-   row-major): the hourglass mismatch of the positions (u = x, G = F) or,
-   linearised, of a displacement (u = v, G = dF).  In 2d X_z = 0 and z is
-   the same for all atoms, so d_z = 0 and only DIM components are formed.
-   Inline (as bond_stiffness()): in the shared library an exported member
-   is called, not inlined, which cost the hourglass passes half their time.
-------------------------------------------------------------------------- */
-
-template <int DIM>
-inline void PairSPHICB::hourglass_mismatch(int i, int j, const double *X, const double *const *u,
-                                           const double *const *grad, double *d) const
-{
-  const double *Gi = grad[i], *Gj = grad[j];
-  for (int a = 0; a < DIM; a++) {
-    double gx = 0.0;
-    for (int b = 0; b < DIM; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
-    d[a] = u[j][a] - u[i][a] - 0.5 * gx;
-  }
 }
 
 /* ----------------------------------------------------------------------
@@ -778,8 +582,9 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
   const double *const *const x = atom->x;
   const bool tally_global = eflag_global, tally_atom = eflag_atom;
   double energy_sum = 0.0;
-  hourglass_sweep<DIM>(
-      x, defgrad, qstress, [&](int i, int j, double kij, const double *d, bool both) {
+  sweeps->hourglass<DIM>(
+      atom->nlocal, hourglass, x, defgrad, qstress,
+      [&](int i, int j, double kij, const double *d, bool both) {
         const double energy = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (tally_global) energy_sum += both ? 2.0 * energy : energy;
         if (tally_atom) {
@@ -796,420 +601,6 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
         }
       });
   eng_vdwl += energy_sum;
-}
-
-/* ----------------------------------------------------------------------
-   the loop the hourglass force and its product share: for each listed
-   pair the mismatch d of the field u with gradients grad, its term
-   -1/2 k_ij d (x) X_ij added to q of i (and of j where the pair is listed
-   once for both), then visit(i, j, k_ij, d, both) for the rest
-------------------------------------------------------------------------- */
-
-template <int DIM, typename Visit>
-void PairSPHICB::hourglass_sweep(const double *const *u, const double *const *grad,
-                                 double *const *q, Visit visit)
-{
-  const int nlocal = atom->nlocal;
-  // copies the compiler need not reload after every store through a double*
-  const double alpha = hourglass;
-  const bool directed = directed_pairs;
-  for (int p = 0; p < npairs; p++) {
-    const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-    const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
-    const double kij = alpha * hg[0];
-    const double *X = hg + 1;
-    double d[3] = {0.0, 0.0, 0.0};
-    hourglass_mismatch<DIM>(i, j, X, u, grad, d);
-    const bool both = !directed && j < nlocal;
-    double *qi = q[i], *qj = q[j];
-    for (int a = 0; a < DIM; a++)
-      for (int b = 0; b < DIM; b++) {
-        const double dq = 0.5 * kij * d[a] * X[b];
-        qi[3 * a + b] -= dq;
-        if (both) qj[3 * a + b] -= dq;
-      }
-    visit(i, j, kij, d, both);
-  }
-}
-
-/* ----------------------------------------------------------------------
-   Hessian of the energy at the positions of the last compute(), for
-   min_style sph/newton: every owned atom sends the blocks of its own energy
-   terms, so the sum over ranks is the whole Hessian.  Exact for stress pk1
-   without hourglass control; with it, only the spring part of the hourglass
-   energy is included (an SPD approximation that preconditions GMRES on the
-   exact products of hessian_product() in min_style sph/newton).
-------------------------------------------------------------------------- */
-
-void PairSPHICB::hessian(const HessianSink &add) const
-{
-  require_current_partners("the Hessian");
-  const int mp = partners->maxpartner;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & mirror_groupbit)) strain_hessian(i, &jlocal[i * mp], add);
-    if (hourglass > 0.0) hourglass_hessian(i, &jlocal[i * mp], add);
-  }
-}
-
-/* ----------------------------------------------------------------------
-   V_i psi(F_i) with F_i = sum_k x_k (x) G_ik, G_ij = g_ij, G_ii = -sum_j g_ij:
-     d2/dx_k[a] dx_l[b] = V_i sum_JL A_aJbL G_ik[J] G_il[L]
-   with the tangent A = dP/dF of the atom's law
-------------------------------------------------------------------------- */
-
-void PairSPHICB::strain_hessian(int i, const int *jl, const HessianSink &add) const
-{
-  const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
-  const tagint *tag = atom->tag;
-  double F[3][3];
-  for (int a = 0; a < 3; a++)
-    for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
-  SPHElastic::Tangent A;
-  materials[atom->type[i]]->tangent(F, kinematics, A);
-
-  // the stencil of F_i: atom i itself (slot 0) and its partners
-  std::vector<double> G(3 * (n + 1), 0.0);
-  std::vector<tagint> id(n + 1);
-  id[0] = tag[i];
-  for (int k = 0; k < n; k++) {
-    const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
-    id[k + 1] = tag[jl[k]];
-    for (int J = 0; J < 3; J++) {
-      G[3 * (k + 1) + J] = g[J];
-      G[J] -= g[J];
-    }
-  }
-  stencil_hessian(atom->vfrac[i], &A[0][0][0][0], id, G, add);
-}
-
-/* ----------------------------------------------------------------------
-   the blocks V sum_JL A_aJbL G_k[J] G_l[L] of an energy V psi(F) whose
-   F = sum_k x_k (x) G_k runs over the stencil of atoms id[k]
-   (A = dP/dF as A[a][J][b][L], 81 doubles)
-------------------------------------------------------------------------- */
-
-void PairSPHICB::stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
-                                 const std::vector<double> &G, const HessianSink &add) const
-{
-  const int dim = domain->dimension;
-  const int n = static_cast<int>(id.size());
-  double M[3][3][3], block[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  for (int k = 0; k < n; k++) {
-    const double *Gk = &G[3 * k];
-    for (int a = 0; a < dim; a++)
-      for (int b = 0; b < dim; b++)
-        for (int L = 0; L < dim; L++) {
-          double sum = 0.0;
-          for (int J = 0; J < dim; J++) sum += A[27 * a + 9 * J + 3 * b + L] * Gk[J];
-          M[a][b][L] = volume * sum;
-        }
-    for (int l = 0; l < n; l++) {
-      const double *Gl = &G[3 * l];
-      for (int a = 0; a < dim; a++)
-        for (int b = 0; b < dim; b++) {
-          double sum = 0.0;
-          for (int L = 0; L < dim; L++) sum += M[a][b][L] * Gl[L];
-          block[a][b] = sum;
-        }
-      add(id[k], id[l], block);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   spring part of 1/4 k_ij |d_ij|^2: the direct x_j - x_i dependence only
-------------------------------------------------------------------------- */
-
-void PairSPHICB::hourglass_hessian(int i, const int *jl, const HessianSink &add) const
-{
-  const int dim = domain->dimension;
-  const tagint *tag = atom->tag;
-  const double *pd = partners->pdata[i];
-  for (int k = 0; k < partners->npartner[i]; k++) {
-    const int j = jl[k];
-    const double kij = hourglass * bond_stiffness(i, j, pd, k);
-    double plus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-    double minus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-    for (int a = 0; a < dim; a++) {
-      plus[a][a] = 0.5 * kij;
-      minus[a][a] = -0.5 * kij;
-    }
-    add(tag[i], tag[i], plus);
-    add(tag[j], tag[j], plus);
-    add(tag[i], tag[j], minus);
-    add(tag[j], tag[i], minus);
-  }
-}
-
-/* ----------------------------------------------------------------------
-   each owned atom's tangent dP/dF at the positions of the last compute(),
-   kept for the products until the next compute()
-------------------------------------------------------------------------- */
-
-void PairSPHICB::refresh_tangents()
-{
-  if (tangents_stamp == ncompute) return;
-  const int nlocal = atom->nlocal;
-  tangents.assign(81 * (size_t) nlocal, 0.0);
-  for (int i = 0; i < nlocal; i++) {
-    if (atom->mask[i] & mirror_groupbit) continue;    // no strain energy
-    double F[3][3];
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
-    SPHElastic::Tangent A;
-    materials[atom->type[i]]->tangent(F, kinematics, A);
-    std::memcpy(&tangents[81 * (size_t) i], &A[0][0][0][0], 81 * sizeof(double));
-  }
-  tangents_stamp = ncompute;
-}
-
-/* ----------------------------------------------------------------------
-   K v as the force is computed, linearised: dF_i = sum_j (v_j - v_i) (x) g_ij,
-   dQ_i = V_i A_i : dF_i, (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji).  The
-   hourglass energy is quadratic in x, so its part is exact too: the
-   hourglass force of hourglass_pairs() with x replaced by v and F by dF.
-   About the cost of one force computation, and no matrix of two-hop
-   blocks (hundreds per atom in 3d) to store.
-------------------------------------------------------------------------- */
-
-void PairSPHICB::hessian_product(const double *v, double *kv)
-{
-  require_current_partners("the Hessian product");
-  if (!vproduct) {
-    memory->create(vproduct, nmax_work, 3, "pair:vproduct");
-    memory->create(dqstress, nmax_work, 9, "pair:dqstress");
-  }
-  refresh_tangents();
-  const int nlocal = atom->nlocal;
-  const bool two_d = domain->dimension == 2;
-  for (int i = 0; i < nlocal; i++)
-    for (int a = 0; a < 3; a++) vproduct[i][a] = v[3 * i + a];
-  comm_what = COMM_PRODUCT_V;
-  comm->forward_comm(this);
-
-  // dF_i = sum_j (v_j - v_i) (x) g_ij into dqstress, then V A:dF in place
-  for (int i = 0; i < nlocal; i++)
-    for (int a = 0; a < 9; a++) dqstress[i][a] = 0.0;
-  if (two_d)
-    pair_gradients<2>(vproduct, dqstress);
-  else
-    pair_gradients<3>(vproduct, dqstress);
-  // the hourglass terms need dF on the ghosts as well, kept apart from dQ
-  if (hourglass > 0.0) {
-    comm_what = COMM_PRODUCT_Q;
-    comm->forward_comm(this);
-    const int nall = nlocal + atom->nghost;
-    if (!dfproduct) memory->create(dfproduct, nmax_work, 9, "pair:dfproduct");
-    for (int i = 0; i < nall; i++)
-      for (int a = 0; a < 9; a++) dfproduct[i][a] = dqstress[i][a];
-  }
-  for (int i = 0; i < nlocal; i++) product_stress_pass(i);
-  for (int i = 0; i < 3 * nlocal; i++) kv[i] = 0.0;
-  if (hourglass > 0.0) {
-    if (two_d)
-      hourglass_product_pairs<2>(kv);
-    else
-      hourglass_product_pairs<3>(kv);
-  }
-  comm_what = COMM_PRODUCT_Q;
-  comm->forward_comm(this);
-
-  if (two_d)
-    pair_divergence<2, false>(dqstress, kv);
-  else
-    pair_divergence<3, false>(dqstress, kv);
-}
-
-/* ----------------------------------------------------------------------
-   hourglass_pairs() linearised: with d_ij = v_j - v_i - (dF_i + dF_j)/2 X_ij,
-   dQ_i -= 1/2 k_ij d_ij (x) X_ij and (K v)_i -= k_ij d_ij (into kv), and
-   the same dQ and the opposite (K v) for j
-------------------------------------------------------------------------- */
-
-template <int DIM> void PairSPHICB::hourglass_product_pairs(double *kv)
-{
-  hourglass_sweep<DIM>(vproduct, dfproduct, dqstress,
-                       [&](int i, int j, double kij, const double *d, bool both) {
-                         for (int a = 0; a < DIM; a++) {
-                           kv[3 * i + a] -= kij * d[a];
-                           if (both) kv[3 * j + a] += kij * d[a];
-                         }
-                       });
-}
-
-/* ----------------------------------------------------------------------
-   dQ_i = V_i A_i : dF_i, dF_i as pair_gradients() left it in dqstress[i]
-------------------------------------------------------------------------- */
-
-void PairSPHICB::product_stress_pass(int i)
-{
-  double *dQ = dqstress[i];
-  if (atom->mask[i] & mirror_groupbit) {
-    for (int a = 0; a < 9; a++) dQ[a] = 0.0;
-    return;
-  }
-  const int dim = domain->dimension;
-  double dF[3][3] = {};
-  for (int a = 0; a < dim; a++)
-    for (int b = 0; b < dim; b++) dF[a][b] = dQ[3 * a + b];
-  for (int a = 0; a < 9; a++) dQ[a] = 0.0;
-  const double *A = &tangents[81 * (size_t) i];    // A[a][J][b][L]
-  const double volume = atom->vfrac[i];
-  for (int a = 0; a < dim; a++)
-    for (int J = 0; J < dim; J++) {
-      const double *AaJ = &A[27 * a + 9 * J];
-      double sum = 0.0;
-      for (int b = 0; b < dim; b++)
-        for (int L = 0; L < dim; L++) sum += AaJ[3 * b + L] * dF[b][L];
-      dQ[3 * a + J] = volume * sum;
-    }
-}
-
-/* ----------------------------------------------------------------------
-   axial springs k_ij e e^T (e the current bond direction) with a tenth of
-   that isotropically so that no bond pattern leaves a mechanism;
-   k_ij = E_ij w_ij, the hourglass weight, so that the matrix has K's
-   scale.  Each pair is sent from both atoms, half each.
-------------------------------------------------------------------------- */
-
-void PairSPHICB::spring_matrix(const HessianSink &add) const
-{
-  require_current_partners("the spring matrix");
-  constexpr double ISOTROPIC = 0.1;
-  const int dim = domain->dimension;
-  const int mp = partners->maxpartner;
-  const double *const *const x = atom->x;
-  const tagint *tag = atom->tag;
-  for (int i = 0; i < atom->nlocal; i++) {
-    const double *pd = partners->pdata[i];
-    for (int k = 0; k < partners->npartner[i]; k++) {
-      const int j = jlocal[i * mp + k];
-      const double kij = bond_stiffness(i, j, pd, k);
-      double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
-      const double r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-      if (r > 0.0)
-        for (double &c : e) c /= r;
-      double plus[3][3] = {}, minus[3][3] = {};
-      for (int a = 0; a < dim; a++)
-        for (int b = 0; b < dim; b++) {
-          plus[a][b] = 0.5 * kij * (e[a] * e[b] + (a == b ? ISOTROPIC : 0.0));
-          minus[a][b] = -plus[a][b];
-        }
-      add(tag[i], tag[i], plus);
-      add(tag[j], tag[j], plus);
-      add(tag[i], tag[j], minus);
-      add(tag[j], tag[i], minus);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   the Hessian of the same energy with F_i from a compact stencil: the
-   linear least-squares gradient over atom i's nearest reference shell
-   (widened to the next shells where it does not span the dimension),
-   with atom i's tangent at the last compute().  On a lattice that is
-   central differences: like the SPH gradient, they vanish on the
-   checkerboard-modulated displacements, so this matrix has the soft
-   modes of K (the spring matrix has not), and its stencil is ~20 atoms
-   instead of the ~460 of K's in 3d.  Each owned atom sends its blocks.
-------------------------------------------------------------------------- */
-
-void PairSPHICB::compact_matrix(const HessianSink &add)
-{
-  if (jlocal_builds != neighbor->ncalls || jlocal_nlocal != atom->nlocal)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Pair style sph/icb: the compact matrix needs forces computed since the last "
-               "neighbor list build");
-  refresh_tangents();
-  const int mp = partners->maxpartner;
-  const tagint *tag = atom->tag;
-  std::vector<tagint> id;
-  std::vector<double> G;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & mirror_groupbit) && compact_stencil(i, &jlocal[i * mp], id, G)) {
-      for (size_t k = 1; k < id.size(); k++) id[k] = tag[id[k]];
-      id[0] = tag[i];
-      stencil_hessian(atom->vfrac[i], &tangents[81 * (size_t) i], id, G, add);
-    }
-    if (hourglass > 0.0) hourglass_hessian(i, &jlocal[i * mp], add);
-  }
-}
-
-/* ----------------------------------------------------------------------
-   atom i's compact stencil: local indices of the shell's atoms in id[1..]
-   and the gradient weights G (slot 0: atom i, minus their sum).  The
-   shell grows by reference distance until its second moment spans the
-   dimension; false if no partners do
-------------------------------------------------------------------------- */
-
-bool PairSPHICB::compact_stencil(int i, const int *jl, std::vector<tagint> &id,
-                                 std::vector<double> &G) const
-{
-  constexpr double SHELL = 1.05;      // a shell: reference distances within 5 %
-  constexpr double SPANS = 1.0e-6;    // det M / (tr M / dim)^dim of a spanning shell
-  const int dim = domain->dimension;
-  const int n = partners->npartner[i];
-  const double *pd = partners->pdata[i];
-  auto distance = [&](int k) {
-    return pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
-  };
-  std::vector<int> order(n);
-  for (int k = 0; k < n; k++) order[k] = k;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return distance(a) < distance(b);
-  });
-
-  double M[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  int used = 0;
-  while (used < n) {
-    // add the next shell
-    const double edge = SHELL * distance(order[used]);
-    for (; used < n && distance(order[used]) <= edge; used++) {
-      const double *X = &pd[order[used] * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-      for (int a = 0; a < dim; a++)
-        for (int b = 0; b < dim; b++) M[a][b] += X[a] * X[b];
-    }
-    if (dim == 2) M[2][2] = 1.0;
-    const double trace = (M[0][0] + M[1][1] + (dim == 3 ? M[2][2] : 0.0)) / dim;
-    if (SPHElastic::det3(M) > SPANS * std::pow(trace, dim)) break;
-  }
-  const double det = SPHElastic::det3(M);
-  if (!(det > 0.0)) return false;
-  double Minv[3][3];
-  SPHElastic::inverse3(M, det, Minv);
-
-  id.assign(used + 1, 0);
-  G.assign(3 * (size_t) (used + 1), 0.0);
-  for (int s = 0; s < used; s++) {
-    const int k = order[s];
-    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
-    id[s + 1] = jl[k];
-    for (int J = 0; J < dim; J++) {
-      const double g = Minv[J][0] * X[0] + Minv[J][1] * X[1] + Minv[J][2] * X[2];
-      G[3 * (s + 1) + J] = g;
-      G[J] -= g;
-    }
-  }
-  return true;
-}
-
-/* ----------------------------------------------------------------------
-   the spacing of the compact stencils: the smallest reference distance
-   between partners, over all ranks.  Collective
-------------------------------------------------------------------------- */
-
-double PairSPHICB::nearest_spacing() const
-{
-  double nearest = std::numeric_limits<double>::max();
-  for (int i = 0; i < atom->nlocal; i++) {
-    const double *pd = partners->pdata[i];
-    for (int k = 0; k < partners->npartner[i]; k++)
-      nearest = std::min(nearest, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
-  }
-  double all = nearest;
-  MPI_Allreduce(&nearest, &all, 1, MPI_DOUBLE, MPI_MIN, world);
-  return all;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1241,12 +632,11 @@ void PairSPHICB::read_restart_settings(FILE *fp)
 
 int PairSPHICB::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
 {
-  // a displacement increment needs no periodic image shift
-  const int width = (comm_what == COMM_PRODUCT_V) ? 3 : 9;
-  double **src = forward_array();
+  // none of the arrays sent (F, Q, and the linearisation's displacement
+  // increments) needs a periodic image shift
   int m = 0;
   for (int ii = 0; ii < n; ii++)
-    for (int a = 0; a < width; a++) buf[m++] = src[list[ii]][a];
+    for (int a = 0; a < comm_width; a++) buf[m++] = comm_array[list[ii]][a];
   return m;
 }
 
@@ -1254,37 +644,27 @@ int PairSPHICB::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*
 
 void PairSPHICB::unpack_forward_comm(int n, int first, double *buf)
 {
-  const int width = (comm_what == COMM_PRODUCT_V) ? 3 : 9;
-  double **dst = forward_array();
   int m = 0;
   for (int i = first; i < first + n; i++)
-    for (int a = 0; a < width; a++) dst[i][a] = buf[m++];
+    for (int a = 0; a < comm_width; a++) comm_array[i][a] = buf[m++];
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the values of a per-atom array (width <= 9 per atom) from the owned
+   atoms to their ghosts
+------------------------------------------------------------------------- */
 
-double **PairSPHICB::forward_array() const
+void PairSPHICB::forward_comm_array(double **array, int width)
 {
-  switch (comm_what) {
-    case COMM_DEFGRAD:
-      return defgrad;
-    case COMM_PRODUCT_V:
-      return vproduct;
-    case COMM_PRODUCT_Q:
-      return dqstress;
-    default:
-      return qstress;
-  }
+  comm_array = array;
+  comm_width = width;
+  comm->forward_comm(this);
 }
 
 /* ---------------------------------------------------------------------- */
 
 double PairSPHICB::memory_usage()
 {
-  double bytes = PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
-      (double) maxlocal * sizeof(int) + (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double));
-  if (vproduct) bytes += (double) nmax_work * 12 * sizeof(double);
-  if (dfproduct) bytes += (double) nmax_work * 9 * sizeof(double);
-  bytes += (double) maxpairs_hg * 4 * sizeof(double);
-  return bytes + (double) tangents.capacity() * sizeof(double);
+  return PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
+      (double) maxlocal * sizeof(int) + sweeps->memory_usage();
 }

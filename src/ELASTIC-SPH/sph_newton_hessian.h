@@ -15,7 +15,7 @@
 #define LMP_SPH_NEWTON_HESSIAN_H
 
 #include "atom.h"
-#include "pair_sph_icb.h"
+#include "sph_linearisation.h"
 #include "sph_newton_dofs.h"
 
 #include <algorithm>
@@ -25,7 +25,8 @@ namespace LAMMPS_NS {
 namespace SPHElastic {
 
   /* ----------------------------------------------------------------------
-     the Hessian T^T K T of pair sph/icb's energy on the free coordinates,
+     the Hessian T^T K T of an elastic energy (its Linearisation) on the
+     free coordinates,
      as the entries this rank computes (its owned atoms' blocks, by atom ID;
      the same (row, col) can come several times and from several ranks,
      and the entries are to be summed).  T maps the free coordinates to all
@@ -37,40 +38,40 @@ namespace SPHElastic {
 
   class FreeHessian {
    public:
-    FreeHessian(class Atom *atom, PairSPHICB &pair, const NewtonDofs &dofs) :
-        atom(atom), pair(pair), dofs(dofs)
+    FreeHessian(class Atom *atom, Linearisation &energy, const NewtonDofs &dofs) :
+        atom(atom), energy(energy), dofs(dofs)
     {
     }
 
     int size() const { return dofs.nfree(); }
 
     // calls add(row, col, value) for this rank's entries of the lower
-    // triangle (col <= row), in the order pair sph/icb gives them (the same
+    // triangle (col <= row), in the order the linearisation gives them (the same
     // from one call to the next unless atoms were sorted or migrated), until
     // add returns false; returns false if it was stopped so
     template <typename Add> bool for_each_lower_entry(Add &&add) const
     {
       bool going = true;
-      pair.hessian([&](tagint k, tagint l, const double(*block)[3]) {
+      energy.hessian([&](tagint k, tagint l, const double(*block)[3]) {
         if (going) going = map_lower(k, l, block, add);
       });
       return going;
     }
 
-    // the same for T^T S T, S the one-hop spring matrix of pair sph/icb
+    // the same for T^T S T, S the one-hop spring matrix of the energy
     // (a preconditioner for the matrix-free product below)
     template <typename Add> void for_each_lower_spring_entry(Add &&add) const
     {
-      pair.spring_matrix([&](tagint k, tagint l, const double(*block)[3]) {
+      energy.spring_matrix([&](tagint k, tagint l, const double(*block)[3]) {
         map_lower(k, l, block, add);
       });
     }
 
-    // the same for T^T C T, C the compact matrix of pair sph/icb, which has
+    // the same for T^T C T, C the compact matrix of the energy, which has
     // K's soft modes (the preconditioner of the matrix-free product)
     template <typename Add> void for_each_lower_compact_entry(Add &&add) const
     {
-      pair.compact_matrix([&](tagint k, tagint l, const double(*block)[3]) {
+      energy.compact_matrix([&](tagint k, tagint l, const double(*block)[3]) {
         map_lower(k, l, block, add);
       });
     }
@@ -90,7 +91,7 @@ namespace SPHElastic {
         }
     }
 
-    double nearest_spacing() const { return pair.nearest_spacing(); }
+    double nearest_spacing() const { return energy.nearest_spacing(); }
 
     // the free coordinates that this rank's owned atoms follow, sorted
     std::vector<int> needed_indices() const
@@ -123,7 +124,7 @@ namespace SPHElastic {
           dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
             work_in[3 * i + a] += c * value(r);
           });
-      pair.hessian_product(work_in.data(), work_out.data());
+      energy.hessian_product(work_in.data(), work_out.data());
       for (int i = 0; i < nlocal; i++)
         for (int a = 0; a < dim; a++)
           dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
@@ -133,7 +134,7 @@ namespace SPHElastic {
 
    private:
     Atom *atom;
-    PairSPHICB &pair;
+    Linearisation &energy;
     const NewtonDofs &dofs;
     mutable std::vector<double> work_in, work_out;
 

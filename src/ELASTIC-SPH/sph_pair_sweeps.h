@@ -1,0 +1,183 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_SPH_PAIR_SWEEPS_H
+#define LMP_SPH_PAIR_SWEEPS_H
+
+#include "lmptype.h"
+
+namespace LAMMPS_NS {
+class Memory;
+namespace SPHElastic {
+
+  /* ----------------------------------------------------------------------
+     the list of reference partner pairs that pair sph/icb's sweeps stream
+     through, and the sweeps themselves: the force and its linearisation
+     (the Hessian product of min_style sph/newton) run the same loops over
+     it with different fields.  Every pair once, ordered by i: both owned
+     (once, i < j) or j a ghost (from the owned side; the other rank does
+     the other side); or, where the two sides of a periodic box disagree,
+     directed (each atom lists all its partners, for itself only).  Each
+     sweep adds a pair's share to both of its atoms, which reads the
+     gradients once instead of twice (the sweeps are memory bound in 3d).
+  ------------------------------------------------------------------------- */
+
+  class PairSweeps {
+   public:
+    explicit PairSweeps(Memory *memory) : memory(memory) {}
+    ~PairSweeps();
+    PairSweeps(const PairSweeps &) = delete;
+    PairSweeps &operator=(const PairSweeps &) = delete;
+
+    // room for up to `bound` pairs, with hourglass data if asked; the
+    // list is emptied
+    void reserve(bigint bound, bool hourglass);
+    void clear(bool directed_pairs)
+    {
+      npairs = 0;
+      directed = directed_pairs;
+    }
+    // a pair (i, j) with its kernel gradients g_ij and g_ji (dim each);
+    // with hourglass control also k_ij / alpha and the reference offset X_ij
+    void add(int i, int j, int dim, const double *gij, const double *gji)
+    {
+      pair_atoms[2 * npairs] = i;
+      pair_atoms[2 * npairs + 1] = j;
+      double *g = &pair_g[(bigint) npairs * 2 * dim];
+      for (int a = 0; a < dim; a++) {
+        g[a] = gij[a];
+        g[dim + a] = gji[a];
+      }
+      npairs++;
+    }
+    void add_hourglass(int dim, double stiffness, const double *X)
+    {
+      double *hg = &pair_hg[(bigint) (npairs - 1) * (1 + dim)];
+      hg[0] = stiffness;
+      for (int a = 0; a < dim; a++) hg[1 + a] = X[a];
+    }
+    bool is_directed() const { return directed; }
+    bool has_hourglass_data() const { return pair_hg != nullptr; }
+    int size() const { return npairs; }
+    double memory_usage() const
+    {
+      return (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double)) +
+          (double) maxpairs_hg * 4 * sizeof(double);
+    }
+
+    /* ----------------------------------------------------------------------
+       grad_i += sum_j (field_j - field_i) (x) g_ij for every owned atom i
+       (3 values per atom in field, 9 row-major in grad)
+    ------------------------------------------------------------------------- */
+
+    template <int DIM>
+    void gradients(int nlocal, const double *const *field, double *const *grad) const
+    {
+      for (int p = 0; p < npairs; p++) {
+        const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+        const double *gij = &pair_g[(bigint) p * 2 * DIM];
+        const double *gji = gij + DIM;
+        double d[DIM];
+        for (int a = 0; a < DIM; a++) d[a] = field[j][a] - field[i][a];
+        double *Gi = grad[i];
+        for (int a = 0; a < DIM; a++)
+          for (int b = 0; b < DIM; b++) Gi[3 * a + b] += d[a] * gij[b];
+        if (!directed && j < nlocal) {
+          double *Gj = grad[j];
+          for (int a = 0; a < DIM; a++)
+            for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
+        }
+      }
+    }
+
+    /* ----------------------------------------------------------------------
+       the divergence of a field q (3x3 row-major per atom): for every pair
+       f_ij = Q_i g_ij - Q_j g_ji (the force on i; j's share is -f_ij), handed
+       to visit(i, j, f_ij, both) with both = j's share is this rank's to
+       add.  In 2d the z row of Q and the z components of g vanish
+    ------------------------------------------------------------------------- */
+
+    template <int DIM, typename Visit>
+    void divergence(int nlocal, const double *const *q, double sign, Visit visit) const
+    {
+      for (int p = 0; p < npairs; p++) {
+        const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+        const double *gij = &pair_g[(bigint) p * 2 * DIM];
+        const double *gji = gij + DIM;
+        const double *Qi = q[i];
+        const double *Qj = q[j];
+        double fij[3] = {0.0, 0.0, 0.0};
+        for (int a = 0; a < DIM; a++) {
+          double qi = 0.0, qj = 0.0;
+          for (int b = 0; b < DIM; b++) {
+            qi += Qi[3 * a + b] * gij[b];
+            qj += Qj[3 * a + b] * gji[b];
+          }
+          fij[a] = sign * (qi - qj);
+        }
+        visit(i, j, fij, !directed && j < nlocal);
+      }
+    }
+
+    /* ----------------------------------------------------------------------
+       the loop the hourglass force and its linearisation share: for each
+       pair the mismatch d = u_j - u_i - (G_i + G_j)/2 X_ij of a field u with
+       gradients G (the positions with F, or a displacement with dF), its
+       term -1/2 k_ij d (x) X_ij added to q of i (and of j where both),
+       then visit(i, j, k_ij, d, both), k_ij = alpha times the stored
+       stiffness.  In 2d X_z = 0 and z is the same for all atoms, so d_z = 0
+       and only DIM components are formed
+    ------------------------------------------------------------------------- */
+
+    template <int DIM, typename Visit>
+    void hourglass(int nlocal, double alpha, const double *const *u, const double *const *grad,
+                   double *const *q, Visit visit) const
+    {
+      // a copy the compiler need not reload after every store through a double*
+      const bool directed_copy = directed;
+      for (int p = 0; p < npairs; p++) {
+        const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
+        const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+        const double kij = alpha * hg[0];
+        const double *X = hg + 1;
+        double d[3] = {0.0, 0.0, 0.0};
+        const double *Gi = grad[i], *Gj = grad[j];
+        for (int a = 0; a < DIM; a++) {
+          double gx = 0.0;
+          for (int b = 0; b < DIM; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
+          d[a] = u[j][a] - u[i][a] - 0.5 * gx;
+        }
+        const bool both = !directed_copy && j < nlocal;
+        double *qi = q[i], *qj = q[j];
+        for (int a = 0; a < DIM; a++)
+          for (int b = 0; b < DIM; b++) {
+            const double dq = 0.5 * kij * d[a] * X[b];
+            qi[3 * a + b] -= dq;
+            if (both) qj[3 * a + b] -= dq;
+          }
+        visit(i, j, kij, d, both);
+      }
+    }
+
+   private:
+    Memory *memory;
+    int npairs = 0, maxpairs = 0, maxpairs_hg = 0;
+    bool directed = false;
+    int *pair_atoms = nullptr;    // i and j of each pair
+    double *pair_g = nullptr;     // g_ij then g_ji of each pair, d doubles each
+    double *pair_hg = nullptr;    // k_ij / alpha then X_ij of each pair, 1 + d doubles
+  };
+}    // namespace SPHElastic
+}    // namespace LAMMPS_NS
+
+#endif
