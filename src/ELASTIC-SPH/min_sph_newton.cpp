@@ -31,10 +31,10 @@
 #include "modify.h"
 #include "output.h"
 #include "pair_sph_icb.h"
+#include "sph_hessian_operators.h"
 #include "sph_icb_linearisation.h"
-#include "sph_krylov.h"
-#include "sph_linear_solver_eigen.h"
-#include "sph_linear_solver_petsc.h"
+#include "sph_linear_solver.h"
+#include "sph_linear_solver_choice.h"
 #include "sph_newton_dofs.h"
 #include "sph_newton_hessian.h"
 #include "thermo.h"
@@ -52,8 +52,6 @@ using namespace LAMMPS_NS;
 using namespace SPHElastic;
 
 namespace {
-constexpr double ARMIJO = 1.0e-4;       // sufficient-decrease fraction of the line search
-constexpr int MAXHALVING = 40;          // step halvings before the line search gives up
 constexpr double ROUNDOFF = 1.0e-13;    // relative energy change below round-off
 constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |f| by 10 %
 // a Newton step that promises less than this relative energy decrease
@@ -61,34 +59,17 @@ constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |
 constexpr double PROMISE_ROUNDOFF = 1.0e-11;
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
-// Newton-Krylov: the forcing term eta (GMRES stops at |J s - f| <= eta |f|)
-// by Eisenstat and Walker's choice 2, eta = 0.9 (|f_k| / |f_k-1|)^2, kept
-// within [ETA_MIN, ETA_MAX]; the products J v come from force differences
-// that move no coordinate by more than FD_RELATIVE times the cutoff
-constexpr double ETA_MAX = 1.0e-2;
-constexpr double ETA_MIN = 1.0e-8;
-constexpr int MAXKRYLOV = 60;
-// GMRES on the exact Hessian products with hourglass control (without
-// restarts: this many vectors of the free coordinates on every rank)
-constexpr int MAXKRYLOV_PRODUCT = 200;
-// the pk1 Hessian's inverse that preconditions the corotated Jacobian
-// needs no more than this relative residual
-constexpr double PK1_INVERSE_TOL = 1.0e-1;
-// the saddle test with hourglass control: Lanczos until the smallest Ritz
-// value settles to LANCZOS_TOL of itself, at most MAXLANCZOS products
-constexpr double LANCZOS_TOL = 1.0e-3;
-constexpr int MAXLANCZOS = 100;
+// the products J v of Newton-Krylov come from force differences that move
+// no coordinate by more than FD_RELATIVE times the cutoff
 const double FD_RELATIVE = std::sqrt(DBL_EPSILON);
-enum FactorChoice { AUTO, CHOLMOD, LDLT };
-enum SolverChoice { SOLVER_AUTO, DIRECT, PETSC, MUMPS };
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
-    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)), factor(AUTO),
-    backend(SOLVER_AUTO), nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0), nkrylov(0),
-    nproducts(0), nkrylov_hessian(0), nproducts_hessian(0)
+    MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)),
+    choice(new LinearSolverChoice(lmp)), nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0),
+    nkrylov(0), nproducts(0)
 {
 }
 
@@ -102,88 +83,16 @@ void MinSPHNewton::init()
 {
   MinLineSearch::init();
   check_style();
-  const int method = backend == SOLVER_AUTO ? automatic_backend() : backend;
-  if (method == DIRECT)
-    solver = std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
-  else
-    solver = std::make_unique<PetscLinearSolver>(
-        lmp, method == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
+  solver = choice->make();
 }
 
 /* ----------------------------------------------------------------------
-   min_modify solver auto (the default): a 3d body's Hessian has ~1400
-   entries per row, so factorising it on rank 0 takes 4x the time and 4x
-   the memory of PETSc's matrix-free CG already at 10 k atoms, and runs out
-   of memory at 80 k; 2d Hessians are sparse enough for the direct solve
-   to win.  A factorisation asked for by min_modify factor gets it.
+   min_modify solver and factor
 ------------------------------------------------------------------------- */
-
-int MinSPHNewton::automatic_backend()
-{
-  const char *reason = nullptr;
-  int method = DIRECT;
-  if (domain->dimension == 2)
-    reason = "a 2d body";
-  else if (factor != AUTO)
-    reason = "min_modify factor asks for a factorisation";
-  else if (!PetscLinearSolver::available())
-    reason = "a 3d body, but this LAMMPS was built without PETSc";
-  else {
-    method = PETSC;
-    reason = "a 3d body";
-  }
-  if (comm->me == 0)
-    utils::logmesg(lmp, "  min_style sph/newton: solver auto: {} ({})\n",
-                   method == DIRECT ? "direct" : "petsc", reason);
-  return method;
-}
-
-/* ---------------------------------------------------------------------- */
 
 int MinSPHNewton::modify_param(int narg, char **arg)
 {
-  if (strcmp(arg[0], "solver") == 0) {
-    backend = keyword_choice(
-        narg, arg, {{"auto", SOLVER_AUTO}, {"direct", DIRECT}, {"petsc", PETSC}, {"mumps", MUMPS}});
-    if ((backend == PETSC || backend == MUMPS) && !PetscLinearSolver::available())
-      error->all(FLERR,
-                 "Min_modify solver {}: this LAMMPS was built without PETSc (install it, e.g. "
-                 "Debian's libpetsc-real-dev, and rebuild; or use solver direct)",
-                 arg[1]);
-    return 2;
-  }
-  if (strcmp(arg[0], "factor") == 0) {
-    factor = keyword_choice(narg, arg, {{"auto", AUTO}, {"cholmod", CHOLMOD}, {"ldlt", LDLT}});
-    if (factor == CHOLMOD && !EigenLinearSolver::have_cholmod())
-      error->all(FLERR,
-                 "min_modify factor cholmod: this LAMMPS was built without SuiteSparse CHOLMOD "
-                 "(install it, e.g. Debian's libsuitesparse-dev, and rebuild; or use factor "
-                 "auto)");
-    return 2;
-  }
-  return 0;
-}
-
-/* ----------------------------------------------------------------------
-   the value of min_modify keyword arg[0] named by arg[1]; an error that
-   lists the names otherwise
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::keyword_choice(int narg, char **arg,
-                                 std::initializer_list<std::pair<const char *, int>> choices)
-{
-  const std::string keyword = fmt::format("min_modify {}", arg[0]);
-  if (narg < 2) utils::missing_cmd_args(FLERR, keyword, error);
-  std::string names;
-  size_t k = 0;
-  for (const auto &choice : choices) {
-    if (strcmp(arg[1], choice.first) == 0) return choice.second;
-    if (k > 0) names += (k + 1 == choices.size()) ? " or " : ", ";
-    names += choice.first;
-    k++;
-  }
-  error->all(FLERR, "Unknown {} {}: use {}", keyword, arg[1], names);
-  return 0;
+  return choice->parse(narg, arg);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -217,16 +126,16 @@ int MinSPHNewton::iterate(int maxiter)
 
   start();
   nroundoff = 0;
-  nkrylov = nproducts = nkrylov_hessian = nproducts_hessian = 0;
+  nkrylov = nproducts = 0;
   const int stop = pair->has_energy() ? newton_loop(maxiter) : corotated_loop(maxiter);
   const std::string summary = solver->summary();
   if (!summary.empty() && comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: {}\n", summary);
-  if (nkrylov_hessian && comm->me == 0)
+  if (operators->nkrylov && comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: hourglass control: {} GMRES iterations on {} exact "
                    "Hessian products, preconditioned by the assembled spring part\n",
-                   nkrylov_hessian, nproducts_hessian);
+                   operators->nkrylov, operators->nproducts);
   if (!pair->has_energy() && comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: {} GMRES iterations, {} force calls for their "
@@ -251,6 +160,7 @@ void MinSPHNewton::start()
   linearisation = std::make_unique<ICBLinearisation>(lmp, *pair);
   hessian = std::make_unique<FreeHessian>(atom, *linearisation, *dofs);
   solver->reset(dofs->nfree());
+  operators = std::make_unique<HessianOperators>(lmp, *hessian, *solver);
   if (comm->me == 0) {
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
                    dofs->nfree(), solver->name());
@@ -330,15 +240,7 @@ void MinSPHNewton::newton_step(double tol)
     return;
   }
   whole_free_force(residual);
-  const KrylovResult krylov = flexible_gmres(member_map(&MinSPHNewton::exact_hessian_product),
-                                             member_map(&MinSPHNewton::precondition), residual,
-                                             step, tol, MAXKRYLOV_PRODUCT);
-  nkrylov_hessian += krylov.iterations;
-  // where H is indefinite GMRES may return an uphill step; the factorised
-  // matrix was made positive definite by the solver, so its step is downhill
-  double fdotstep = 0.0;
-  for (size_t k = 0; k < step.size(); k++) fdotstep += residual[k] * step[k];
-  if (fdotstep <= 0.0) precondition(residual, step);
+  operators->newton_step(residual, step, tol);
 }
 
 /* ----------------------------------------------------------------------
@@ -347,9 +249,7 @@ void MinSPHNewton::newton_step(double tol)
    the factorised matrix is only the spring part, which can be positive
    definite where the exact Hessian is not (the straight truss beyond
    buckling at hg 0.2): there Lanczos on the exact products, in the metric
-   of the factorisation, looks for a negative eigenvalue, from a random
-   start because the force of a symmetric body has no part along the
-   antisymmetric buckling mode.  For the corotated stress the Hessian is
+   of the factorisation, looks for a negative eigenvalue.  For the corotated stress the Hessian is
    only a preconditioner, and its inertia says nothing about stability.
 ------------------------------------------------------------------------- */
 
@@ -358,43 +258,7 @@ bool MinSPHNewton::saddle_point()
   if (!pair->has_energy()) return false;
   if (solver->indefinite()) return true;
   if (linearisation->hessian_is_exact() || solver->matrix_free()) return false;
-
-  // the same start on every rank, and on any number of ranks
-  std::vector<double> start(dofs->nfree());
-  std::mt19937 generator(12345);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  for (double &value : start) value = uniform(generator);
-  const EigenvalueEstimate estimate =
-      lowest_eigenvalue(member_map(&MinSPHNewton::exact_hessian_product),
-                        member_map(&MinSPHNewton::precondition), start, LANCZOS_TOL, MAXLANCZOS);
-  if (comm->me == 0)
-    utils::logmesg(lmp,
-                   "  min_style sph/newton: hourglass control: smallest eigenvalue of the exact "
-                   "Hessian in the metric of the assembled one {:.6g} ({} Lanczos iterations; "
-                   "its sign tells stability)\n",
-                   estimate.lowest, estimate.iterations);
-  return estimate.lowest < -LANCZOS_TOL * std::fabs(estimate.largest);
-}
-
-/* ----------------------------------------------------------------------
-   hv = H v on the free coordinates by pair sph/icb's exact product, whole
-   vectors on every rank
-------------------------------------------------------------------------- */
-
-void MinSPHNewton::exact_hessian_product(const std::vector<double> &v, std::vector<double> &hv)
-{
-  force_share.assign(v.size(), 0.0);
-  hessian->product(
-      [&](int r) {
-        return v[r];
-      },
-      [&](int r, double share) {
-        force_share[r] += share;
-      });
-  hv.resize(v.size());
-  MPI_Allreduce(force_share.data(), hv.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM,
-                world);
-  nproducts_hessian++;
+  return operators->negative_curvature(dofs->nfree());
 }
 
 /* ----------------------------------------------------------------------
@@ -534,138 +398,6 @@ int MinSPHNewton::abandon_step(bool all_inverted, const std::string &reason)
 }
 
 /* ----------------------------------------------------------------------
-   the corotated stress P = R S: Newton-Krylov with |f|^2 as merit
-   function takes tiny steps far from equilibrium (a linear step that
-   bends a beam stretches its fibres; |f| grows though the energy falls),
-   so it starts from the pk1 equilibrium P = F S of the same law, found by
-   the energy Newton loop: the two differ by (F - R) S = R (U - I) S, of
-   the order of the strain times the stress
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::corotated_loop(int maxiter)
-{
-  const int corotated = pair->stress_measure();
-  pair->set_stress_measure(PairSPHICB::PK1);
-  ecurrent = energy_force(0);
-  neval++;
-  const int start_niter = niter;
-  const int stop = newton_loop(maxiter);
-  pair->set_stress_measure(corotated);
-  ecurrent = energy_force(0);
-  neval++;
-  if (comm->me == 0)
-    utils::logmesg(lmp,
-                   "  min_style sph/newton: pk1 equilibrium as the start after {} iterations\n",
-                   niter - start_niter);
-  if (stop == TIMEOUT || stop == MAXEVAL || stop == MAXITER) return stop;
-  if (force_below_ftol()) return FTOL;
-  return newton_krylov_loop(maxiter - (niter - start_niter));
-}
-
-/* ----------------------------------------------------------------------
-   Newton-Krylov for the corotated stress (no energy, J unsymmetric): the
-   pk1 Hessian is assembled and factorised once per iteration and
-   preconditions GMRES on J step = f; the step is shortened by
-   backtracking on |f|^2.  etol has no energy to test: only ftol, maxiter
-   and maxeval stop it.
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::newton_krylov_loop(int maxiter)
-{
-  const LinearMap jacobian = member_map(&MinSPHNewton::jacobian_product);
-  const LinearMap preconditioner = member_map(&MinSPHNewton::pk1_inverse);
-  whole_free_force(residual);
-  double phi = 0.0, phi_previous = 0.0, eta = ETA_MAX;
-  for (double value : residual) phi += value * value;
-
-  for (int iter = 0; iter < maxiter; iter++) {
-    if (timer->check_timeout(niter)) return TIMEOUT;
-    const bigint ntimestep = ++update->ntimestep;
-    niter++;
-
-    if (iter > 0) eta = forcing_term(eta, phi, phi_previous);
-
-    // the differences and the line search start from here
-    for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
-    fix_minimize->store_box();
-    solver->assemble(*hessian);
-    const KrylovResult krylov =
-        flexible_gmres(jacobian, preconditioner, residual, step, eta, MAXKRYLOV);
-    nkrylov += krylov.iterations;
-    dofs->expand(step, h);
-
-    eprevious = ecurrent;
-    phi_previous = phi;
-    const int fail = residual_line_search(phi, std::min(krylov.residual, 1.0));
-    if (fail) return fail;
-    phi = 0.0;
-    for (double value : residual) phi += value * value;
-
-    // no energy: etol has nothing to test
-    if (const int stop = stop_or_output(ntimestep, false)) return stop;
-  }
-  return MAXITER;
-}
-
-/* ----------------------------------------------------------------------
-   the step h from x0, halved until phi = |f|^2 on the free coordinates
-   drops by the fraction the linear model promises, 2 ARMIJO alpha (1-eta)
-   (Eisenstat-Walker backtracking); leaves residual at the accepted point.
-   Where phi stops falling at round-off the search gives up as the energy
-   line search does.
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::residual_line_search(double phi0, double eta)
-{
-  double alpha = 1.0;
-  int ninverted_trials = 0;
-  for (int k = 0; k < MAXHALVING; k++) {
-    ecurrent = alpha_step(alpha, 1);
-    if (trial_inverts()) {
-      ninverted_trials++;
-      alpha *= 0.5;
-      continue;
-    }
-    whole_free_force(residual);
-    double phi = 0.0;
-    for (double value : residual) phi += value * value;
-    if (phi <= (1.0 - 2.0 * ARMIJO * alpha * (1.0 - eta)) * phi0) {
-      alpha_final = alpha;
-      return 0;
-    }
-    alpha *= 0.5;
-  }
-  const int stop = abandon_step(ninverted_trials == MAXHALVING,
-                                fmt::format("Min_style sph/newton: the force norm {:.8g} does not "
-                                            "fall along the Newton-Krylov step: it is at its "
-                                            "round-off floor, or the Jacobian's differences are "
-                                            "too coarse for it",
-                                            sqrt(phi0)));
-  whole_free_force(residual);
-  return stop;
-}
-
-/* ----------------------------------------------------------------------
-   J v = (f(x0) - f(x0 + eps v)) / eps on the free coordinates, the
-   largest coordinate change eps max|v| = fd_length: small against the
-   particle spacing, large against the round-off of the force sums
-------------------------------------------------------------------------- */
-
-void MinSPHNewton::jacobian_product(const std::vector<double> &v, std::vector<double> &jv)
-{
-  double vmax = 0.0;
-  for (double value : v) vmax = std::max(vmax, std::fabs(value));
-  jv.assign(v.size(), 0.0);
-  if (vmax == 0.0) return;
-  const double eps = fd_length / vmax;
-  dofs->expand(v, h);
-  alpha_step(eps, 1);
-  nproducts++;
-  whole_free_force(perturbed);
-  for (size_t k = 0; k < v.size(); k++) jv[k] = (residual[k] - perturbed[k]) / eps;
-}
-
-/* ----------------------------------------------------------------------
    Eisenstat and Walker's choice 2 from the squared force norms of this
    and the previous iterate: eta = 0.9 |f_k|^2 / |f_k-1|^2, not below
    0.9 previous_eta^2 while that is above 0.1 (it must not drop faster
@@ -678,51 +410,6 @@ double MinSPHNewton::forcing_term(double previous_eta, double fsq, double fsq_pr
   if (0.9 * previous_eta * previous_eta > 0.1)
     eta = std::max(eta, 0.9 * previous_eta * previous_eta);
   return std::min(ETA_MAX, std::max(ETA_MIN, eta));
-}
-
-/* ----------------------------------------------------------------------
-   z = H^-1 v for the pk1 Hessian H, the corotated Jacobian's
-   preconditioner: by its factorisation where that is exact, else (the
-   spring part of hourglass control) by a few GMRES iterations on the exact
-   products, which flexible GMRES outside allows
-------------------------------------------------------------------------- */
-
-void MinSPHNewton::pk1_inverse(const std::vector<double> &v, std::vector<double> &z)
-{
-  if (linearisation->hessian_is_exact() || solver->matrix_free()) {
-    precondition(v, z);
-    return;
-  }
-  const KrylovResult krylov =
-      flexible_gmres(member_map(&MinSPHNewton::exact_hessian_product),
-                     member_map(&MinSPHNewton::precondition), v, z, PK1_INVERSE_TOL, MAXKRYLOV);
-  nkrylov_hessian += krylov.iterations;
-}
-
-/* ----------------------------------------------------------------------
-   a member y = A x of this minimizer as the map the Krylov solvers take
-------------------------------------------------------------------------- */
-
-LinearMap MinSPHNewton::member_map(MemberProduct product)
-{
-  return [this, product](const std::vector<double> &x, std::vector<double> &y) {
-    (this->*product)(x, y);
-  };
-}
-
-/* ----------------------------------------------------------------------
-   z = H^-1 v by the factorisation of this iteration's Hessian
-------------------------------------------------------------------------- */
-
-void MinSPHNewton::precondition(const std::vector<double> &v, std::vector<double> &z)
-{
-  // the solver sums its right-hand side over the ranks: rank 0 gives all of it
-  if (comm->me == 0)
-    solver->solve(v, z);
-  else {
-    force_share.assign(v.size(), 0.0);
-    solver->solve(force_share, z);
-  }
 }
 
 /* ----------------------------------------------------------------------

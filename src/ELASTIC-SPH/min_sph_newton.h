@@ -21,20 +21,19 @@ MinimizeStyle(sph/newton,MinSPHNewton);
 #define LMP_MIN_SPH_NEWTON_H
 
 #include "min_linesearch.h"
-#include "sph_krylov.h"
 
-#include <initializer_list>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
 
 namespace SPHElastic {
   class FreeHessian;
+  class HessianOperators;
   class ICBLinearisation;
   class LinearSolver;
+  class LinearSolverChoice;
   class NewtonDofs;
 }    // namespace SPHElastic
 
@@ -60,14 +59,21 @@ class MinSPHNewton : public MinLineSearch {
   int modify_param(int, char **) override;
 
  private:
-  int automatic_backend();
+  // the line searches: sufficient-decrease fraction (Armijo) and halvings
+  // before they give up
+  static constexpr double ARMIJO = 1.0e-4;
+  static constexpr int MAXHALVING = 40;
+  // the forcing term eta of an inexact Newton step (|H s - f| <= eta |f|):
+  // Eisenstat and Walker's choice 2 within [ETA_MIN, ETA_MAX]
+  static constexpr double ETA_MAX = 1.0e-2;
+  static constexpr double ETA_MIN = 1.0e-8;
   class PairSPHICB *pair;
   std::unique_ptr<SPHElastic::NewtonDofs> dofs;
   std::unique_ptr<SPHElastic::ICBLinearisation> linearisation;
   std::unique_ptr<SPHElastic::FreeHessian> hessian;
+  std::unique_ptr<SPHElastic::LinearSolverChoice> choice;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
-  int factor;                               // min_modify factor: AUTO, CHOLMOD or LDLT
-  int backend;                              // min_modify solver: SOLVER_AUTO, DIRECT, PETSC, MUMPS
+  std::unique_ptr<SPHElastic::HessianOperators> operators;
   std::vector<double> force_share, step;    // on the free coordinates
   int nroundoff;                            // line searches in a row that ended below round-off
   double roundoff_fnorm;                    // |f|^2 when that run began
@@ -76,15 +82,11 @@ class MinSPHNewton : public MinLineSearch {
   std::vector<double> perturbed;    // the same at iterate + eps v
   double fd_length;                 // largest coordinate change of a difference product
   bigint nkrylov, nproducts;        // GMRES iterations on J v and its force calls, this run
-  bigint nkrylov_hessian, nproducts_hessian;    // GMRES on exact Hessian products
 
-  int keyword_choice(int narg, char **arg,
-                     std::initializer_list<std::pair<const char *, int>> choices);
   void check_style();
   void start();
   int newton_loop(int);
   void newton_step(double tol);
-  void exact_hessian_product(const std::vector<double> &v, std::vector<double> &hv);
   bool saddle_point();
   int line_search(double fdoth);
   int abandon_step(bool all_inverted, const std::string &reason);
@@ -94,9 +96,6 @@ class MinSPHNewton : public MinLineSearch {
   int residual_line_search(double phi0, double eta);
   void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
   static double forcing_term(double previous_eta, double fsq, double fsq_previous);
-  void precondition(const std::vector<double> &v, std::vector<double> &z);
-  using MemberProduct = void (MinSPHNewton::*)(const std::vector<double> &, std::vector<double> &);
-  SPHElastic::LinearMap member_map(MemberProduct product);
   void pk1_inverse(const std::vector<double> &v, std::vector<double> &z);
   void whole_free_force(std::vector<double> &force);
   bool force_below_ftol();

@@ -1,0 +1,120 @@
+/* ----------------------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#include "sph_linear_solver_choice.h"
+
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "sph_linear_solver_eigen.h"
+#include "sph_linear_solver_petsc.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace SPHElastic;
+
+/* ---------------------------------------------------------------------- */
+
+LinearSolverChoice::LinearSolverChoice(LAMMPS *lmp) :
+    Pointers(lmp), factor(AUTO), backend(SOLVER_AUTO)
+{
+}
+
+/* ----------------------------------------------------------------------
+   the solver this choice names, for the minimisation about to start
+------------------------------------------------------------------------- */
+
+std::unique_ptr<LinearSolver> LinearSolverChoice::make() const
+{
+  const int method = backend == SOLVER_AUTO ? automatic_backend() : backend;
+  if (method == DIRECT) return std::make_unique<EigenLinearSolver>(lmp, factor != LDLT);
+  return std::make_unique<PetscLinearSolver>(
+      lmp, method == MUMPS ? PetscLinearSolver::MUMPS : PetscLinearSolver::MATRIX_FREE);
+}
+
+/* ----------------------------------------------------------------------
+   min_modify solver auto (the default): a 3d body's Hessian has ~1400
+   entries per row, so factorising it on rank 0 takes 4x the time and 4x
+   the memory of PETSc's matrix-free CG already at 10 k atoms, and runs out
+   of memory at 80 k; 2d Hessians are sparse enough for the direct solve
+   to win.  A factorisation asked for by min_modify factor gets it.
+------------------------------------------------------------------------- */
+
+int LinearSolverChoice::automatic_backend() const
+{
+  const char *reason = nullptr;
+  int method = DIRECT;
+  if (domain->dimension == 2)
+    reason = "a 2d body";
+  else if (factor != AUTO)
+    reason = "min_modify factor asks for a factorisation";
+  else if (!PetscLinearSolver::available())
+    reason = "a 3d body, but this LAMMPS was built without PETSc";
+  else {
+    method = PETSC;
+    reason = "a 3d body";
+  }
+  if (comm->me == 0)
+    utils::logmesg(lmp, "  min_style sph/newton: solver auto: {} ({})\n",
+                   method == DIRECT ? "direct" : "petsc", reason);
+  return method;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int LinearSolverChoice::parse(int narg, char **arg)
+{
+  if (strcmp(arg[0], "solver") == 0) {
+    backend = keyword_choice(
+        narg, arg, {{"auto", SOLVER_AUTO}, {"direct", DIRECT}, {"petsc", PETSC}, {"mumps", MUMPS}});
+    if ((backend == PETSC || backend == MUMPS) && !PetscLinearSolver::available())
+      error->all(FLERR,
+                 "Min_modify solver {}: this LAMMPS was built without PETSc (install it, e.g. "
+                 "Debian's libpetsc-real-dev, and rebuild; or use solver direct)",
+                 arg[1]);
+    return 2;
+  }
+  if (strcmp(arg[0], "factor") == 0) {
+    factor = keyword_choice(narg, arg, {{"auto", AUTO}, {"cholmod", CHOLMOD}, {"ldlt", LDLT}});
+    if (factor == CHOLMOD && !EigenLinearSolver::have_cholmod())
+      error->all(FLERR,
+                 "min_modify factor cholmod: this LAMMPS was built without SuiteSparse CHOLMOD "
+                 "(install it, e.g. Debian's libsuitesparse-dev, and rebuild; or use factor "
+                 "auto)");
+    return 2;
+  }
+  return 0;
+}
+
+/* ----------------------------------------------------------------------
+   the value of min_modify keyword arg[0] named by arg[1]; an error that
+   lists the names otherwise
+------------------------------------------------------------------------- */
+
+int LinearSolverChoice::keyword_choice(int narg, char **arg,
+                                       std::initializer_list<std::pair<const char *, int>> choices)
+{
+  const std::string keyword = fmt::format("min_modify {}", arg[0]);
+  if (narg < 2) utils::missing_cmd_args(FLERR, keyword, error);
+  std::string names;
+  size_t k = 0;
+  for (const auto &choice : choices) {
+    if (strcmp(arg[1], choice.first) == 0) return choice.second;
+    if (k > 0) names += (k + 1 == choices.size()) ? " or " : ", ";
+    names += choice.first;
+    k++;
+  }
+  error->all(FLERR, "Unknown {} {}: use {}", keyword, arg[1], names);
+  return 0;
+}
