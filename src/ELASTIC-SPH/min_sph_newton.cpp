@@ -45,18 +45,11 @@
 #include <cfloat>
 #include <climits>
 #include <cmath>
-#include <cstring>
-#include <random>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
 
 namespace {
-constexpr double ROUNDOFF = 1.0e-13;    // relative energy change below round-off
-constexpr int ROUNDOFF_WINDOW = 10;     // steps below round-off that must cut |f| by 10 %
-// a Newton step that promises less than this relative energy decrease
-// (f.h / 2) cannot be judged by the energy, whose own round-off is larger
-constexpr double PROMISE_ROUNDOFF = 1.0e-11;
 constexpr double EPS_ENERGY =
     1.0e-8;    // as in min_cg.cpp: keeps the etol test meaningful near E = 0
 // the products J v of Newton-Krylov come from force differences that move
@@ -297,104 +290,6 @@ bool MinSPHNewton::force_below_ftol()
   else
     fdotf = fnorm_sqr();
   return fdotf < update->ftol * update->ftol;
-}
-
-/* ----------------------------------------------------------------------
-   the full Newton step, halved until the energy drops enough (Armijo).
-   Close to the minimum the energy change, or the decrease the step
-   promises, sinks below round-off: then any step that lowers the force
-   norm counts, as long as the norm keeps falling
-   by 10 % per ROUNDOFF_WINDOW such steps; when it does not, the force is as
-   small as round-off lets it be and the search stops.
-   fdoth = f.h in the units of the energy.
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::line_search(double fdoth)
-{
-  // start point and its box: reset_coords() unwraps periodic jumps against them
-  for (int i = 0; i < nvec; i++) x0[i] = xvec[i];
-  fix_minimize->store_box();
-  const double e0 = ecurrent;
-  const double fnorm0 = fnorm_sqr();
-  double alpha = 1.0;
-  int ninverted_trials = 0;
-  const bool tiny_promise = 0.5 * fdoth <= PROMISE_ROUNDOFF * fabs(e0);
-  for (int k = 0; k < MAXHALVING; k++) {
-    const double e = alpha_step(alpha, 1);
-    // St. Venant-Kirchhoff's energy does not forbid inversion: a step that
-    // turns particles inside out is shortened like one that gains energy
-    if (trial_inverts()) {
-      ninverted_trials++;
-      alpha *= 0.5;
-      continue;
-    }
-    // where the step promises less than round-off, or the energy changes by
-    // less, the energy cannot judge the step (noise can pass the Armijo
-    // test): the force norm does
-    const bool unresolved = tiny_promise || fabs(e - e0) <= ROUNDOFF * fabs(e0);
-    if (!unresolved && e <= e0 - ARMIJO * alpha * fdoth) {
-      nroundoff = 0;
-      ecurrent = e;
-      alpha_final = alpha;
-      return 0;
-    }
-    if (unresolved) {
-      const double fnorm = fnorm_sqr();
-      if (nroundoff == 0) roundoff_fnorm = fnorm0;
-      const bool lower = fnorm < fnorm0;
-      const bool stalled = ++nroundoff >= ROUNDOFF_WINDOW && fnorm > 0.81 * roundoff_fnorm;
-      if (lower && !stalled) {
-        if (nroundoff >= ROUNDOFF_WINDOW) nroundoff = 0;
-        ecurrent = e;
-        alpha_final = alpha;
-        return 0;
-      }
-      ecurrent = alpha_step(0.0, 1);
-      alpha_final = 0.0;
-      if (comm->me == 0)
-        error->warning(FLERR,
-                       "Min_style sph/newton: the force norm {:.8g} is at its round-off floor; "
-                       "the force tolerance asks for less",
-                       sqrt(fnorm0));
-      return ZEROALPHA;
-    }
-    alpha *= 0.5;
-  }
-  // a step that promised a decrease above round-off and found none: a
-  // force without its energy
-  return abandon_step(ninverted_trials == MAXHALVING,
-                      "Min_style sph/newton: no energy decrease along the Newton step; is every "
-                      "external load in the energy ('fix_modify ID energy yes')?");
-}
-
-/* ----------------------------------------------------------------------
-   true if the last force computation found inverted particles (collective)
-------------------------------------------------------------------------- */
-
-bool MinSPHNewton::trial_inverts() const
-{
-  tagint id;
-  double det;
-  int type;
-  return pair->count_inverted(id, det, type) > 0;
-}
-
-/* ----------------------------------------------------------------------
-   a line search that found no acceptable step: back to its start, and a
-   warning why (every trial inverted particles, or the given reason)
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::abandon_step(bool all_inverted, const std::string &reason)
-{
-  ecurrent = alpha_step(0.0, 1);
-  alpha_final = 0.0;
-  if (comm->me == 0)
-    error->warning(FLERR,
-                   all_inverted ? "Min_style sph/newton: every step along the Newton direction "
-                                  "inverts particles; the load is beyond what the body can "
-                                  "carry without turning inside out"
-                                : reason);
-  return ZEROALPHA;
 }
 
 /* ----------------------------------------------------------------------

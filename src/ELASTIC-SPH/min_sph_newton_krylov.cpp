@@ -120,44 +120,6 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
 }
 
 /* ----------------------------------------------------------------------
-   the step h from x0, halved until phi = |f|^2 on the free coordinates
-   drops by the fraction the linear model promises, 2 ARMIJO alpha (1-eta)
-   (Eisenstat-Walker backtracking); leaves residual at the accepted point.
-   Where phi stops falling at round-off the search gives up as the energy
-   line search does.
-------------------------------------------------------------------------- */
-
-int MinSPHNewton::residual_line_search(double phi0, double eta)
-{
-  double alpha = 1.0;
-  int ninverted_trials = 0;
-  for (int k = 0; k < MAXHALVING; k++) {
-    ecurrent = alpha_step(alpha, 1);
-    if (trial_inverts()) {
-      ninverted_trials++;
-      alpha *= 0.5;
-      continue;
-    }
-    whole_free_force(residual);
-    double phi = 0.0;
-    for (double value : residual) phi += value * value;
-    if (phi <= (1.0 - 2.0 * ARMIJO * alpha * (1.0 - eta)) * phi0) {
-      alpha_final = alpha;
-      return 0;
-    }
-    alpha *= 0.5;
-  }
-  const int stop = abandon_step(ninverted_trials == MAXHALVING,
-                                fmt::format("Min_style sph/newton: the force norm {:.8g} does not "
-                                            "fall along the Newton-Krylov step: it is at its "
-                                            "round-off floor, or the Jacobian's differences are "
-                                            "too coarse for it",
-                                            sqrt(phi0)));
-  whole_free_force(residual);
-  return stop;
-}
-
-/* ----------------------------------------------------------------------
    J v = (f(x0) - f(x0 + eps v)) / eps on the free coordinates, the
    largest coordinate change eps max|v| = fd_length: small against the
    particle spacing, large against the round-off of the force sums
