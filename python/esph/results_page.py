@@ -17,6 +17,7 @@ import argparse
 import difflib
 import json
 import math
+import re
 import sys
 import textwrap
 from pathlib import Path
@@ -428,8 +429,95 @@ def recorded_section(name: str, source: dict, data: dict) -> list[str]:
     return out
 
 
+def bench_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("Throughput of the dynamics (``scripts/bench``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Particle-steps per second of LAMMPS's loop time; "
+                     "*tlsph* and *tlsph3d* are LAMMPS's MACHDYN ``smd/tlsph`` on the same "
+                     "body (``examples/beam/in.beam_tlsph``, ``examples/beam3d/in.beam3d_tlsph``"
+                     "), *icb3d* the 3D cantilever 0.2 x 0.02 x 0.02 m with the defaults.")
+    out += table(["style", "dx [mm]", "atoms", "ranks", "loop [s]", "M particle-steps/s",
+                  "us per particle-step and rank"],
+                 [[r["style"], f"{r['dx'] * 1e3:g}", str(r["atoms"]), str(r["ranks"]),
+                   f"{r['loop']:.3f}", f"{r['rate'] / 1e6:.3f}", f"{r['us_per_step']:.3f}"]
+                  for r in data["rows"]])
+    return out
+
+
+def bench3d_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("3D cantilever statics per linear solver (``scripts/bench3d``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Wall time of the whole run, Newton iterations, peak "
+                     "memory of a rank, and the ratio to 100 dynamic steps of the same body "
+                     "on the same ranks; *direct* = the Hessian gathered and factorised on "
+                     "rank 0, *mumps* = PETSc's MUMPS across the ranks, *petsc* = matrix-free "
+                     "CG with multigrid across the ranks (the default in 3D).")
+    out += table(["dx [mm]", "atoms", "ranks", "solver", "Newton iterations", "wall [s]",
+                  "MB per rank", "100 dynamic steps [s]", "ratio"],
+                 [[f"{r['dx'] * 1e3:g}", str(r.get("atoms", "")), str(r["ranks"]), r["solver"],
+                   str(r.get("iterations", "")), num(r.get("wall"), ".1f"),
+                   num(r.get("rss_mb"), ".0f"), num(r.get("dyn100"), ".2f"),
+                   num(r.get("ratio"), ".1f")] if not r.get("failed") else
+                  [f"{r['dx'] * 1e3:g}", "", str(r["ranks"]), r["solver"],
+                   r["failed"], "", "", "", ""]
+                  for r in data["rows"]])
+    return out
+
+
 SECTIONS = {"validate": validate_section, "statics": statics_section, "speed": speed_section,
-            "recorded": recorded_section}
+            "bench": bench_section, "bench3d": bench3d_section, "recorded": recorded_section}
+
+
+# ------------------------------------------- the benches that print only
+
+_MACHINE = re.compile(r"machine (.*)$")
+_BENCH = re.compile(r"^\s*(\S+)\s+([\d.]+)\s+(\d+)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)"
+                    r"\s+(\S.*)$")
+_BENCH3D = re.compile(r"^\s*([\d.]+)\s+(\d+)\s+(\d+)\s+(\w+)\s+(\d+)\s+([\d.]+)\s+([\d.]+)"
+                      r"\s+([\d.]+)\s+([\d.]+)\s+(.*?)\s+\|\s+(\S.*)$")
+_BENCH3D_FAILED = re.compile(r"^\s*([\d.]+)\s+(\d+)\s+(\w+)\s+(failed: .*?|\w+Error|\w+Expired)"
+                             r"\s+(cd \S.*)$")
+
+
+def parse_bench(text: str) -> dict:
+    """The table 'python -m esph bench' prints, as JSON rows."""
+    lines = text.splitlines()
+    rows = []
+    for line in lines[3:]:
+        m = _BENCH.match(line)
+        if m:
+            rows.append({"style": m[1], "dx": float(m[2]) * 1e-3, "atoms": int(m[3]),
+                         "ranks": int(m[4]), "loop": float(m[5]), "rate": float(m[6]) * 1e6,
+                         "us_per_step": float(m[7]), "command": m[8].strip()})
+    if not rows:
+        raise ValueError("no rows of 'python -m esph bench' found")
+    return {"title": lines[0].split("; machine")[0], "machine": _MACHINE.search(lines[0])[1],
+            "rows": rows}
+
+
+def parse_bench3d(text: str) -> dict:
+    """The table 'python -m esph bench3d' prints, as JSON rows."""
+    lines = text.splitlines()
+    rows = []
+    for line in lines[3:]:
+        m = _BENCH3D.match(line)
+        if m:
+            rows.append({"dx": float(m[1]) * 1e-3, "atoms": int(m[2]), "ranks": int(m[3]),
+                         "solver": m[4], "iterations": int(m[5]), "wall": float(m[6]),
+                         "rss_mb": float(m[7]), "dyn100": float(m[8]), "ratio": float(m[9]),
+                         "solver_log": m[10].strip(), "command": m[11].strip()})
+            continue
+        m = _BENCH3D_FAILED.match(line)
+        if m:
+            rows.append({"dx": float(m[1]) * 1e-3, "ranks": int(m[2]), "solver": m[3],
+                         "failed": m[4], "command": m[5].strip()})
+    if not rows:
+        raise ValueError("no rows of 'python -m esph bench3d' found")
+    return {"title": lines[0].split("; machine")[0], "machine": _MACHINE.search(lines[0])[1],
+            "rows": rows}
+
+
+PARSERS = {"bench": parse_bench, "bench3d": parse_bench3d}
 
 
 # ---------------------------------------------------------------- page
@@ -467,7 +555,15 @@ def main(argv=None) -> int:
                         help="compare the committed page with the data; exit 1 if they differ")
     parser.add_argument("--results", default=str(RESULTS), help="folder of the JSON files")
     parser.add_argument("--page", default=str(PAGE), help="the page (doc/Results.rst)")
+    parser.add_argument("--import", dest="imports", nargs=3, action="append", default=[],
+                        metavar=("KIND", "TEXT", "JSON"),
+                        help="turn the printed table of a command that writes no JSON (KIND "
+                             "bench or bench3d; TEXT its stdout) into JSON, e.g. --import "
+                             "bench3d bench3d.txt doc/results/bench3d.json")
     args = parser.parse_args(argv)
+    for kind, text, target in args.imports:
+        Path(target).write_text(json.dumps(PARSERS[kind](Path(text).read_text()), indent=1))
+        print(f"wrote {target}")
     text = render(Path(args.results))
     page = Path(args.page)
     if args.check:

@@ -80,3 +80,41 @@ def test_formatters():
     assert results_page.mm(-0.0470980) == "-47.0980"
     q = results_page.orders([0.004, 0.001], [0.002, 0.001])
     assert math.isnan(q[0]) and abs(q[1] - 2.0) < 1e-12
+
+
+BENCH3D_TEXT = """\
+3D cantilever statics (square section, L = 10 H, ...); machine vm, 2 cores, x86_64
+dx[mm]   atoms ranks  solver iters  wall[s]  MB/rank dyn100[s]  ratio  solver log / command
+-------------------------------------------------------------------------------------------
+  2.00   10300     1  direct     8     52.3     4100      1.30   40.2  8 Hessians, 94 GMRES  |  cd examples/beam3d && mpirun -np 1 lmp -in in.beam3d -var dx 0.002
+  1.00           2  direct failed: out of memory  cd examples/beam3d && mpirun -np 2 lmp -in in.beam3d -var dx 0.001
+"""
+
+BENCH_TEXT = """\
+Throughput, beam under -250 N, undamped dynamics, 200 steps; machine vm (2 cores), x86_64
+   style  dx[mm]   atoms ranks  loop[s]  Mpart-steps/s us/part-step  command
+----------------------------------------------------------------------------
+   icb3d    2.00   10300     1    1.126          1.830        0.546  cd examples/beam3d && mpirun -np 1 lmp -in in.beam3d
+"""
+
+
+def test_printed_benches_become_json_and_a_table(tmp_path):
+    b3d = results_page.parse_bench3d(BENCH3D_TEXT)
+    assert b3d["machine"] == "vm, 2 cores, x86_64"
+    ok, failed = b3d["rows"]
+    assert (ok["atoms"], ok["ranks"], ok["solver"], ok["iterations"]) == (10300, 1, "direct", 8)
+    assert (ok["wall"], ok["rss_mb"], ok["dyn100"]) == (52.3, 4100.0, 1.30)
+    assert ok["command"].startswith("cd examples/beam3d")
+    assert failed["failed"] == "failed: out of memory" and failed["ranks"] == 2
+    bench = results_page.parse_bench(BENCH_TEXT)
+    assert bench["rows"][0]["rate"] == 1.83e6 and bench["rows"][0]["style"] == "icb3d"
+    (tmp_path / "bench3d.json").write_text(json.dumps(b3d))
+    (tmp_path / "bench.json").write_text(json.dumps(bench))
+    (tmp_path / "sources.json").write_text(json.dumps({
+        "bench3d.json": {"kind": "bench3d", "command": "python -m esph bench3d --np 1"},
+        "bench.json": {"kind": "bench", "command": "python -m esph bench --styles icb3d"}}))
+    text = results_page.render(tmp_path)
+    assert "     - 52.3\n     - 4100\n     - 1.30\n     - 40.2\n" in text
+    assert "     - failed: failed: out of memory\n" not in text
+    assert "failed: out of memory" in text
+    assert "     - 1.830\n" in text
