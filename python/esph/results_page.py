@@ -116,9 +116,15 @@ def load_results(folder: Path) -> tuple[dict, dict]:
 def provenance(name: str, source: dict) -> list[str]:
     """Where a JSON file came from: the command that wrote it, when, at which
     commit, on which machine."""
-    text = f"Data: ``doc/results/{name}``, written by ``{source['command']}``"
+    if source.get("transcribed_from"):
+        text = (f"Data: ``doc/results/{name}``, transcribed by hand from "
+                f"{source['transcribed_from']}")
+    else:
+        text = f"Data: ``doc/results/{name}``, written by ``{source['command']}``"
     if source.get("output"):
         text += f" (as ``{source['output']}``)"
+    if source.get("via"):
+        text += f"; its printed table turned into JSON by ``{source['via']}``"
     details = [f"{key} {source[key]}" for key in ("date", "commit") if source.get(key)]
     if details:
         text += "; " + ", ".join(details)
@@ -418,7 +424,7 @@ def speed_section(name: str, source: dict, data: list) -> list[str]:
 def recorded_section(name: str, source: dict, data: dict) -> list[str]:
     """Tables transcribed from commands that print only: each with its own
     command, columns and rows as given in the file."""
-    out = heading("Recorded benchmarks (commands that print only)", "-")
+    out = heading("Recorded: tables transcribed from earlier runs", "-")
     out += provenance(name, source)
     for entry in data["tables"]:
         out += heading(entry["title"], "^")
@@ -430,7 +436,7 @@ def recorded_section(name: str, source: dict, data: dict) -> list[str]:
 
 
 def bench_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading("Throughput of the dynamics (``scripts/bench``)", "-")
+    out = heading(source.get("title", "Throughput of the dynamics (``scripts/bench``)"), "-")
     out += provenance(name, source)
     out += paragraph(f"{data['title']}.  Particle-steps per second of LAMMPS's loop time; "
                      "*tlsph* and *tlsph3d* are LAMMPS's MACHDYN ``smd/tlsph`` on the same "
@@ -532,10 +538,12 @@ def render(folder: Path = RESULTS) -> str:
                        "solvers.  The page is generated from the JSON files in "
                        "``doc/results/`` by ``python -m esph.results_page``; each section "
                        "names the command that wrote its file.  Timings depend on the machine "
-                       "and its load; the errors do not.  To refresh: run the command, copy its "
-                       "JSON into ``doc/results/``, update ``doc/results/sources.json`` and "
+                       "and its load; the errors do not.  The section *Recorded* holds tables "
+                       "transcribed from earlier runs whose commands were not rerun for this "
+                       "page; it says so for each.  To refresh: run the command, copy its JSON "
+                       "into ``doc/results/``, update ``doc/results/sources.json`` and "
                        "regenerate this page (``python/tests/test_results_page.py`` fails while "
-                       "page and data disagree).")
+                       "page and data disagree; ``doc/Developer.md`` has the details).")
     speed_started = False
     for name, source in sources.items():
         kind = source["kind"]
