@@ -1,0 +1,593 @@
+"""The results page, doc/Results.rst, rendered from the JSON in doc/results/.
+
+Every measured figure of the docs lives in one of those JSON files, each
+written by a command of this harness (or, where the command prints only, a
+transcription of its output that says so); doc/results/sources.json records
+for each file the command, date, commit and machine.  The page is a pure
+function of those files:
+
+    python -m esph.results_page            # write doc/Results.rst
+    python -m esph.results_page --check    # exit 1 if the committed page differs
+
+python/tests/test_results_page.py runs the check, so a page edited by hand,
+or data changed without regenerating the page, fails the tests."""
+from __future__ import annotations
+
+import argparse
+import difflib
+import json
+import math
+import re
+import sys
+import textwrap
+from pathlib import Path
+
+DOC = Path(__file__).resolve().parents[2] / "doc"
+RESULTS = DOC / "results"
+PAGE = DOC / "Results.rst"
+
+# the validate variants by name, as esph.validate labels them
+VARIANTS = {"linear/fixed": "the paper's scheme (linear gradient, fixed clamp columns, cell "
+                            "volumes, load on the last column)",
+            "default": "the defaults (quadratic gradient, mirror clamp, set_sph_volumes, "
+                       "fix sph/traction on the end face, hourglass 0.2)",
+            "quadratic/mirror": "quadratic gradient, mirror clamp, cell volumes, column load",
+            "quadratic/fixed": "quadratic gradient, fixed clamp, cell volumes, column load",
+            "linear/mirror": "linear gradient, mirror clamp, cell volumes, column load"}
+
+
+# ---------------------------------------------------------------- formatting
+
+def isnan(x) -> bool:
+    return x is None or (isinstance(x, float) and math.isnan(x))
+
+
+def pct(x, digits: int = 3) -> str:
+    """A relative error as a signed percentage, '' for a missing value."""
+    if isnan(x):
+        return ""
+    if round(100 * x, digits) == 0:
+        return f"{0:.{digits}f} %"           # round-off: no sign
+    return f"{100 * x:+.{digits}f} %"
+
+
+def num(x, fmt: str = ".4g") -> str:
+    return "" if isnan(x) else format(x, fmt)
+
+
+def mm(x, digits: int = 4) -> str:
+    return "" if isnan(x) else f"{1e3 * x:.{digits}f}"
+
+
+def orders(errors, spacings) -> list:
+    """Observed order between successive resolutions, log(e1/e2)/log(h1/h2);
+    nan for the first and where an error is zero."""
+    out = [math.nan]
+    for k in range(1, len(errors)):
+        e1, e2 = abs(errors[k - 1]), abs(errors[k])
+        ok = e1 > 0 and e2 > 0 and spacings[k - 1] != spacings[k]
+        out.append(math.log(e1 / e2) / math.log(spacings[k - 1] / spacings[k]) if ok else math.nan)
+    return out
+
+
+def order_text(q) -> str:
+    return "" if isnan(q) else f"{q:.2f}"
+
+
+def heading(text: str, char: str) -> list[str]:
+    return [text, char * len(text), ""]
+
+
+def table(header: list[str], rows: list[list[str]], widths: str | None = None) -> list[str]:
+    """An rst list-table."""
+    out = [".. list-table::", "   :header-rows: 1"]
+    if widths:
+        out.append(f"   :widths: {widths}")
+    out.append("")
+    for row in [header] + rows:
+        for j, cell in enumerate(row):
+            out.append(("   * - " if j == 0 else "     - ") + (cell if cell != "" else ""))
+    out.append("")
+    return [line.rstrip() for line in out]
+
+
+def paragraph(text: str) -> list[str]:
+    """A paragraph wrapped at 78 columns, never inside a ``literal`` or a
+    word, nor at a hyphen."""
+    parts = text.split("``")
+    for k in range(1, len(parts), 2):
+        parts[k] = parts[k].replace(" ", _KEEP)
+    lines = textwrap.wrap("``".join(parts), 78, break_long_words=False, break_on_hyphens=False)
+    return [line.replace(_KEEP, " ") for line in lines] + [""]
+
+
+_KEEP = "\x00"     # a space inside a literal while wrapping
+
+
+# ---------------------------------------------------------------- sources
+
+def load_results(folder: Path) -> tuple[dict, dict]:
+    """(sources, data): sources.json, and each JSON file it lists by name."""
+    sources = json.loads((folder / "sources.json").read_text())
+    data = {name: json.loads((folder / name).read_text()) for name in sources}
+    return sources, data
+
+
+def provenance(name: str, source: dict) -> list[str]:
+    """Where a JSON file came from: the command that wrote it, when, at which
+    commit, on which machine."""
+    if source.get("transcribed_from"):
+        text = (f"Data: ``doc/results/{name}``, transcribed by hand from "
+                f"{source['transcribed_from']}")
+    else:
+        text = f"Data: ``doc/results/{name}``, written by ``{source['command']}``"
+    if source.get("output"):
+        text += f" (as ``{source['output']}``)"
+    if source.get("via"):
+        text += f"; its printed table turned into JSON by ``{source['via']}``"
+    details = [f"{key} {source[key]}" for key in ("date", "commit") if source.get(key)]
+    if details:
+        text += "; " + ", ".join(details)
+    text += "."
+    if source.get("machine"):
+        text += f"  Machine: {source['machine']}."
+    if source.get("note"):
+        text += "  " + source["note"]
+    return paragraph(text)
+
+
+# ---------------------------------------------------------------- validate
+
+def rows_of(data: list, table_id: str, **match) -> list[dict]:
+    return [r for r in data if str(r.get("table")) == table_id
+            and all(r.get(k) == v for k, v in match.items())]
+
+
+def variants_in(rows) -> list[str]:
+    return list(dict.fromkeys(r["variant"] for r in rows))
+
+
+def validate_table1(data) -> list[str]:
+    rows = rows_of(data, "1")
+    if not rows:
+        return []
+    out = heading("Table 1: the beam at all loads", "-")
+    out += paragraph("Tip deflection dv of the cantilever (L = 0.2 m, H = 0.02 m, E = 20 GPa, "
+                     "nu = 0, plane stress) at the centroid of the last column, against the "
+                     "elastica at the same material point, beside the paper's ICB value; "
+                     "*vs continuum* is the error against the 2D continuum (finite elements "
+                     "for a face load, Reissner's beam with shear for the paper's column load), "
+                     "which the elastica's missing shear compliance (about 0.6 %) hides.")
+    for variant in variants_in(rows):
+        sel = rows_of(data, "1", variant=variant)
+        out += paragraph(f"**{VARIANTS.get(variant, variant)}**, dx = "
+                         f"{sel[0]['dx'] * 1e3:g} mm:")
+        out += table(["Fy [N]", "dv [mm]", "elastica [mm]", "paper [mm]", "vs elastica",
+                      "paper vs elastica", "vs continuum", "Newton iterations", "wall [s]"],
+                     [[f"{r['load']:g}", mm(r["dv"]), mm(r["exact"]), num(r["paper"], ".2f"),
+                       pct(r["error"], 2),
+                       pct(r["paper"] * 1e-3 / r["exact"] - 1, 2) if not isnan(r["paper"]) else "",
+                       pct(r["error_continuum"], 3), str(r["steps"]), f"{r['wall']:.2f}"]
+                      for r in sel])
+    return out
+
+
+def convergence(sel: list[dict], key: str) -> list[tuple[dict, float]]:
+    sel = sorted(sel, key=lambda r: -r["dx"])
+    qs = orders([r[key] for r in sel], [r["dx"] for r in sel])
+    return list(zip(sel, qs))
+
+
+def validate_table2(data) -> list[str]:
+    rows = rows_of(data, "2")
+    if not rows:
+        return []
+    out = heading("Table 2: the beam's convergence in dx", "-")
+    out += paragraph("Relative error of the tip deflection against the elastica and against "
+                     "the 2D continuum, q = observed order between successive spacings; "
+                     "*paper* is the paper's Table 2 (its error against its own theory).")
+    for variant in variants_in(rows):
+        for load in dict.fromkeys(r["load"] for r in rows_of(data, "2", variant=variant)):
+            sel = rows_of(data, "2", variant=variant, load=load)
+            ela, cont = convergence(sel, "error"), convergence(sel, "error_continuum")
+            out += paragraph(f"**{VARIANTS.get(variant, variant)}**, Fy = {load:g} N:")
+            out += table(["dx [mm]", "atoms' dv vs elastica", "q", "paper", "vs continuum", "q"],
+                         [[f"{r['dx'] * 1e3:g}", pct(r["error"], 2), order_text(q),
+                           "" if isnan(r["paper"]) else f"{r['paper']:.2f} %",
+                           pct(r["error_continuum"], 3), order_text(qc)]
+                          for (r, q), (_, qc) in zip(ela, cont)])
+    return out
+
+
+def validate_table3(data) -> list[str]:
+    rows = rows_of(data, "3")
+    if not rows:
+        return []
+    out = heading("Table 3: the truss at all loads", "-")
+    out += paragraph("Axial tip displacement dh of the bar (L = 0.2 m, H = 5 cm, E = 2 GPa) "
+                     "against the exact answer of Green strain and St. Venant-Kirchhoff at the "
+                     "same material point; the paper's value beside it.")
+    for variant in variants_in(rows):
+        sel = rows_of(data, "3", variant=variant)
+        out += paragraph(f"**{VARIANTS.get(variant, variant)}**, dx = "
+                         f"{sel[0]['dx'] * 1e3:g} mm:")
+        out += table(["Fx [N]", "dh [mm]", "exact [mm]", "error", "paper [mm]", "note"],
+                     [[f"{r['load']:g}", mm(r["dh"]), mm(r["exact"]), pct(r["error"], 4),
+                       num(r["paper"], ".2f"), r.get("note", "")] for r in sel])
+    return out
+
+
+def validate_table4(data) -> list[str]:
+    rows = rows_of(data, "4")
+    if not rows:
+        return []
+    out = heading("Table 4: the truss's convergence in dx", "-")
+    out += paragraph("Relative error of dh against the exact answer, q = observed order "
+                     "(none where the error is round-off); *paper* is the paper's Table 4 "
+                     "(against F L/(A E)).")
+    for variant in variants_in(rows):
+        for load in dict.fromkeys(r["load"] for r in rows_of(data, "4", variant=variant)):
+            sel = convergence(rows_of(data, "4", variant=variant, load=load), "error")
+            # errors that show as 0.0000 % are the solver's tolerance: no order
+            roundoff = all(pct(r["error"], 4) == pct(0.0, 4) for r, _ in sel)
+            out += paragraph(f"**{VARIANTS.get(variant, variant)}**, Fx = {load:g} N:")
+            out += table(["dx [mm]", "error", "q", "paper"],
+                         [[f"{r['dx'] * 1e3:g}", pct(r["error"], 4),
+                           "" if roundoff else order_text(q),
+                           "" if isnan(r["paper"]) else f"{r['paper']:.2f} %"]
+                          for r, q in sel])
+    return out
+
+
+def validate_table5(data) -> list[str]:
+    rows = rows_of(data, "5")
+    if not rows:
+        return []
+    out = heading("Table 5: the defaults against the finite-element continuum", "-")
+    out += paragraph("Tip deflection against mesh-converged Q2 finite elements of the same "
+                     "continuum (``esph.fe``: Green strain and St. Venant-Kirchhoff, clamped at "
+                     "x = 0, dead traction on x = L) at the same material point, q = observed "
+                     "order; beside the particles, Q2 elements on uniform meshes with a node "
+                     "every dx, which meet the clamp's corners as the particles do.  With "
+                     "nu > 0 the clamped corners are singular and bound the order of any uniform "
+                     "discretisation (Williams' exponent, ``esph.theory.clamp_corner_order``: "
+                     "2 lambda = 1.52 in plane stress, 1.42 at a 3D body's clamped edges).")
+    beam = [r for r in rows if r["problem"] == "beam"]
+    for note in dict.fromkeys(r["note"] for r in beam if r["variant"] != "fe-uniform"):
+        sel = [r for r in beam if r["note"] == note and r["variant"] != "fe-uniform"]
+        peer = [r for r in beam
+                if r["note"].startswith(note + ",") and r["variant"] == "fe-uniform"]
+        dxs = sorted(dict.fromkeys(r["dx"] for r in sel), reverse=True)
+        header = ["Fy [N]"]
+        for dx in dxs:
+            header += [f"particles, {dx * 1e3:g} mm", "q"]
+        for dx in dxs:
+            header += [f"uniform Q2, {dx * 1e3:g} mm", "q"]
+        body = []
+        for load in dict.fromkeys(r["load"] for r in sel):
+            cells = [f"{load:g}"]
+            for group in (sel, peer):
+                series = sorted((r for r in group if r["load"] == load), key=lambda r: -r["dx"])
+                qs = orders([r["error"] for r in series], [r["dx"] for r in series])
+                for r, q in zip(series, qs):
+                    cells += [pct(r["error"], 4), order_text(q)]
+            body.append(cells)
+        out += paragraph(f"**Beam, {note.replace('nu ', 'nu = ')}, plane stress:**")
+        out += table(header, body)
+    truss = [r for r in rows if r["problem"] == "truss"]
+    if truss:
+        out += paragraph(f"**Truss, {truss[0]['note'].replace('nu ', 'nu = ')}, dx = "
+                         f"{truss[0]['dx'] * 1e3:g} mm** (the clamp stops the Poisson "
+                         "contraction, so the bar is not homogeneous):")
+        out += table(["Fx [N]", "dh [mm]", "FE [mm]", "error"],
+                     [[f"{r['load']:g}", mm(r["dh"]), mm(r["exact"]), pct(r["error"], 4)]
+                      for r in truss])
+    solid = [r for r in rows if r["problem"].startswith("beam3d")]
+    if solid:
+        shapes = {"beam3d": "0.2 x 0.02 x 0.02 m", "beam3d_short": "0.1 x 0.01 x 0.01 m"}
+        out += paragraph("**3D cantilevers** (end traction, tip deflection against 3D Q2 "
+                         "elements):")
+        out += table(["body", "dx [mm]", "Fy [N]", "nu", "dv [mm]", "FE [mm]", "error",
+                      "wall [s]"],
+                     [[shapes.get(r["problem"], r["problem"]), f"{r['dx'] * 1e3:g}",
+                       f"{r['load']:g}", r["note"].replace("nu ", ""), mm(r["dv"]),
+                       mm(r["exact"]), pct(r["error"], 3), f"{r['wall']:.1f}"] for r in solid])
+    return out
+
+
+def validate_table6(data) -> list[str]:
+    rows = rows_of(data, "6")
+    if not rows:
+        return []
+    out = heading("Table 6: two spheres colliding in 3D, against Hertz", "-")
+    out += paragraph("``examples/spheres3d``: two identical spheres (R = 5 cm, E = 20 GPa, "
+                     "nu = 0.3) head on at +-v, ``fix sph/contact`` between them.  The lattice "
+                     "sphere's pole is a flat facet wider than Hertz's contact circle at these "
+                     "resolutions, so the contact is shorter and stiffer than Hertz's; two flat "
+                     "punches in series with the contact springs (``theory.flat_contact_impact``"
+                     ") model it.")
+    out += table(["R/dx", "atoms", "v [m/s]", "contact vs Hertz", "peak force vs Hertz",
+                  "contact vs flat punch", "restitution", "energy error", "wall [s]"],
+                 [[num(r.get("nr"), "g"), num(r.get("atoms"), "d"), num(r.get("v"), "g"),
+                   pct(r.get("duration_error"), 1), pct(r.get("force_error"), 1),
+                   pct(r.get("facet_duration_error"), 1), num(r.get("restitution"), ".4f"),
+                   num(r.get("energy_error"), ".1e"), num(r.get("wall"), ".2f")]
+                  for r in rows])
+    return out
+
+
+def validate_table7(data) -> list[str]:
+    rows = rows_of(data, "7")
+    if not rows:
+        return []
+    out = heading("Table 7: Lame's thick-walled cylinder", "-")
+    out += paragraph("``examples/lame``: a = 5 cm, b = 10 cm, nu = 0.3, inner pressure p/E = "
+                     "1e-6 (*full*: the ring pinned at three atoms; *quarter*: between two "
+                     "``fix sph/mirror ... slip yes`` planes; *clamped*: clamped on r = a by "
+                     "``fix sph/mirror cylinder``, the same pressure outside).  Relative errors "
+                     "of the layer means of the radial displacement and the hoop stress at the "
+                     "innermost (a+) and outermost (b-) layers against the exact solution, "
+                     "q = observed order in the number of layers nw (clamped: u_r(a+) is itself "
+                     "O(dr), so its q = 1 is an absolute order 2).")
+    header = ["plane", "model", "nw", "atoms", "u_r(a+)", "q", "u_r(b-)", "q", "stt(a+)", "q",
+              "stt(b-)", "q", "wall [s]"]
+    body = []
+    for plane in dict.fromkeys(r["plane"] for r in rows):
+        for model in dict.fromkeys(r["model"] for r in rows if r["plane"] == plane):
+            series = sorted((r for r in rows if r["plane"] == plane and r["model"] == model),
+                            key=lambda r: r["nw"])
+            hs = [1.0 / r["nw"] for r in series]
+            qs = {k: orders([r[k] for r in series], hs)
+                  for k in ("ur_in", "ur_out", "stt_in", "stt_out")}
+            for j, r in enumerate(series):
+                cells = [plane, model, str(r["nw"]), str(r["atoms"])]
+                for k in ("ur_in", "ur_out", "stt_in", "stt_out"):
+                    cells += [pct(r[k], 3), order_text(qs[k][j])]
+                body.append(cells + [f"{r['wall']:.2f}"])
+    out += table(header, body)
+    return out
+
+
+def validate_table8(data) -> list[str]:
+    rows = rows_of(data, "8")
+    if not rows:
+        return []
+    out = heading("Table 8: the beam under its own weight", "-")
+    out += paragraph("``examples/beam -var Fy 0 -var gy -6e4`` (``fix sph/bodyforce``; tip "
+                     "deflection about 9 % of L), against the FE continuum under the same body "
+                     "force: the tip column's mean deflection and the end-face centre's "
+                     "(``compute sph/probe``), q = observed order.")
+    body = []
+    for nu, plane in dict.fromkeys((r["nu"], r["plane"]) for r in rows):
+        series = sorted((r for r in rows if r["nu"] == nu and r["plane"] == plane),
+                        key=lambda r: -r["dx"])
+        dxs = [r["dx"] for r in series]
+        q_col = orders([r["err_column"] for r in series], dxs)
+        q_end = orders([r["err_end"] for r in series], dxs)
+        for j, r in enumerate(series):
+            body.append([f"{nu:g}", plane, f"{r['dx'] * 1e3:g}", pct(r["err_column"], 4),
+                         order_text(q_col[j]), pct(r["err_end"], 4), order_text(q_end[j]),
+                         num(r["fe_error"], ".1e"), f"{r['wall']:.2f}"])
+    out += table(["nu", "plane", "dx [mm]", "tip column", "q", "end centre", "q",
+                  "FE error estimate", "wall [s]"], body)
+    return out
+
+
+def validate_section(name: str, source: dict, data: list) -> list[str]:
+    out = heading("Validation (``scripts/validate``)", "=")
+    out += provenance(name, source)
+    out += paragraph("ICB-SPH (``pair_style sph/icb``) with the paper's scheme and with the "
+                     "defaults, beside the exact answer of each model at the same material "
+                     "point and the paper's numbers (Tran-Duc et al. 2023, Tables 1-4); then the "
+                     "defaults against finite elements, Hertz, Lame and the beam's self-weight. "
+                     "Errors are (ours - reference)/reference.")
+    for render in (validate_table1, validate_table2, validate_table3, validate_table4,
+                   validate_table5, validate_table6, validate_table7, validate_table8):
+        out += render(data)
+    return out
+
+
+# ---------------------------------------------------------------- speed
+
+def statics_section(name: str, source: dict, data: list) -> list[str]:
+    out = heading("Statics: time to the static beam (``python -m esph statics``)", "-")
+    out += provenance(name, source)
+    out += paragraph("The beam under -250 N with the defaults (pk1, quadratic gradient, mirror "
+                     "clamp, exact volumes, face traction); *vs converged* is against Newton "
+                     "to 1e-10 of the load with the row's stress measure, *vs elastica* at the "
+                     "same material point.  Routes: *newton* = ``min_style sph/newton`` (force "
+                     "tolerance 1e-7 of the load), *newton-loose* = the same to 1e-3, *cg* = "
+                     "``min_style cg`` with ``line forcezero``, *dyn* = damped dynamics, "
+                     "*-corotated* = the paper's stress measure (Newton-Krylov).")
+    out += table(["route", "ranks", "atoms", "dx [mm]", "iterations / steps", "wall [s]",
+                  "loop [s]", "vs converged", "vs elastica"],
+                 [[r["route"], str(r["nprocs"]), str(r["atoms"]), f"{r['dx'] * 1e3:g}",
+                   str(r["iterations"]), f"{r['wall']:.2f}", num(r["loop"], ".2f"),
+                   pct(r["deviation"], 5), pct(r["error"], 3)] for r in data])
+    return out
+
+
+def speed_section(name: str, source: dict, data: list) -> list[str]:
+    out = heading("Speed against error (``python -m esph speed``)", "-")
+    out += provenance(name, source)
+    out += paragraph("Wall time to the answer, throughput of the loop (particle-steps per "
+                     "second) and error against the exact answer of each method's model.")
+    out += table(["problem", "load", "method", "dx [mm]", "atoms", "steps", "wall [s]",
+                  "M particle-steps/s", "error", "status"],
+                 [[r["problem"], f"{r['load']:g}", r["method"], f"{r['dx'] * 1e3:g}",
+                   str(r["atoms"]), str(r["steps"]), num(r["wall"], ".2f"),
+                   num(r["throughput"] / 1e6 if not isnan(r["throughput"]) else math.nan, ".3f"),
+                   pct(r["error"], 3), r["status"]] for r in data])
+    return out
+
+
+def recorded_section(name: str, source: dict, data: dict) -> list[str]:
+    """Tables transcribed from commands that print only: each with its own
+    command, columns and rows as given in the file."""
+    out = heading("Recorded: tables transcribed from earlier runs", "-")
+    out += provenance(name, source)
+    for entry in data["tables"]:
+        out += heading(entry["title"], "^")
+        out += paragraph(f"Command: ``{entry['command']}``.  {entry['description']}")
+        out += table(entry["columns"], [[str(c) for c in row] for row in entry["rows"]])
+        if entry.get("note"):
+            out += paragraph(entry["note"])
+    return out
+
+
+def bench_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading(source.get("title", "Throughput of the dynamics (``scripts/bench``)"), "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Particle-steps per second of LAMMPS's loop time; "
+                     "*tlsph* and *tlsph3d* are LAMMPS's MACHDYN ``smd/tlsph`` on the same "
+                     "body (``examples/beam/in.beam_tlsph``, ``examples/beam3d/in.beam3d_tlsph``"
+                     "), *icb3d* the 3D cantilever 0.2 x 0.02 x 0.02 m with the defaults.")
+    out += table(["style", "dx [mm]", "atoms", "ranks", "loop [s]", "M particle-steps/s",
+                  "us per particle-step and rank"],
+                 [[r["style"], f"{r['dx'] * 1e3:g}", str(r["atoms"]), str(r["ranks"]),
+                   f"{r['loop']:.3f}", f"{r['rate'] / 1e6:.3f}", f"{r['us_per_step']:.3f}"]
+                  for r in data["rows"]])
+    return out
+
+
+def bench3d_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("3D cantilever statics per linear solver (``scripts/bench3d``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Wall time of the whole run, Newton iterations, peak "
+                     "memory of a rank, and the ratio to 100 dynamic steps of the same body "
+                     "on the same ranks; *direct* = the Hessian gathered and factorised on "
+                     "rank 0, *mumps* = PETSc's MUMPS across the ranks, *petsc* = matrix-free "
+                     "CG with multigrid across the ranks (the default in 3D).")
+    out += table(["dx [mm]", "atoms", "ranks", "solver", "Newton iterations", "wall [s]",
+                  "MB per rank", "100 dynamic steps [s]", "ratio"],
+                 [[f"{r['dx'] * 1e3:g}", str(r.get("atoms", "")), str(r["ranks"]), r["solver"],
+                   str(r.get("iterations", "")), num(r.get("wall"), ".1f"),
+                   num(r.get("rss_mb"), ".0f"), num(r.get("dyn100"), ".2f"),
+                   num(r.get("ratio"), ".1f")] if not r.get("failed") else
+                  [f"{r['dx'] * 1e3:g}", "", str(r["ranks"]), r["solver"],
+                   r["failed"], "", "", "", ""]
+                  for r in data["rows"]])
+    return out
+
+
+SECTIONS = {"validate": validate_section, "statics": statics_section, "speed": speed_section,
+            "bench": bench_section, "bench3d": bench3d_section, "recorded": recorded_section}
+
+
+# ------------------------------------------- the benches that print only
+
+_MACHINE = re.compile(r"machine (.*)$")
+_BENCH = re.compile(r"^\s*(\S+)\s+([\d.]+)\s+(\d+)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+([\d.]+)"
+                    r"\s+(\S.*)$")
+_BENCH3D = re.compile(r"^\s*([\d.]+)\s+(\d+)\s+(\d+)\s+(\w+)\s+(\d+)\s+([\d.]+)\s+([\d.]+)"
+                      r"\s+([\d.]+)\s+([\d.]+)\s+(.*?)\s+\|\s+(\S.*)$")
+_BENCH3D_FAILED = re.compile(r"^\s*([\d.]+)\s+(\d+)\s+(\w+)\s+(failed: .*?|\w+Error|\w+Expired)"
+                             r"\s+(cd \S.*)$")
+
+
+def parse_bench(text: str) -> dict:
+    """The table 'python -m esph bench' prints, as JSON rows."""
+    lines = text.splitlines()
+    rows = []
+    for line in lines[3:]:
+        m = _BENCH.match(line)
+        if m:
+            rows.append({"style": m[1], "dx": float(m[2]) * 1e-3, "atoms": int(m[3]),
+                         "ranks": int(m[4]), "loop": float(m[5]), "rate": float(m[6]) * 1e6,
+                         "us_per_step": float(m[7]), "command": m[8].strip()})
+    if not rows:
+        raise ValueError("no rows of 'python -m esph bench' found")
+    return {"title": lines[0].split("; machine")[0], "machine": _MACHINE.search(lines[0])[1],
+            "rows": rows}
+
+
+def parse_bench3d(text: str) -> dict:
+    """The table 'python -m esph bench3d' prints, as JSON rows."""
+    lines = text.splitlines()
+    rows = []
+    for line in lines[3:]:
+        m = _BENCH3D.match(line)
+        if m:
+            rows.append({"dx": float(m[1]) * 1e-3, "atoms": int(m[2]), "ranks": int(m[3]),
+                         "solver": m[4], "iterations": int(m[5]), "wall": float(m[6]),
+                         "rss_mb": float(m[7]), "dyn100": float(m[8]), "ratio": float(m[9]),
+                         "solver_log": m[10].strip(), "command": m[11].strip()})
+            continue
+        m = _BENCH3D_FAILED.match(line)
+        if m:
+            rows.append({"dx": float(m[1]) * 1e-3, "ranks": int(m[2]), "solver": m[3],
+                         "failed": m[4], "command": m[5].strip()})
+    if not rows:
+        raise ValueError("no rows of 'python -m esph bench3d' found")
+    return {"title": lines[0].split("; machine")[0], "machine": _MACHINE.search(lines[0])[1],
+            "rows": rows}
+
+
+PARSERS = {"bench": parse_bench, "bench3d": parse_bench3d}
+
+
+# ---------------------------------------------------------------- page
+
+def render(folder: Path = RESULTS) -> str:
+    sources, data = load_results(folder)
+    lines = heading("ELASTIC-SPH results", "=")
+    lines += ["..", "   Generated by python -m esph.results_page from doc/results/*.json:",
+              "   do not edit by hand.", ""]
+    lines += paragraph("Every measured figure of the package's documentation: the validation "
+                       "against exact and finite-element references, and the speed of the "
+                       "solvers.  The page is generated from the JSON files in "
+                       "``doc/results/`` by ``python -m esph.results_page``; each section "
+                       "names the command that wrote its file.  Timings depend on the machine "
+                       "and its load; the errors do not.  The section *Recorded* holds tables "
+                       "transcribed from earlier runs whose commands were not rerun for this "
+                       "page; it says so for each.  To refresh: run the command, copy its JSON "
+                       "into ``doc/results/``, update ``doc/results/sources.json`` and "
+                       "regenerate this page (``python/tests/test_results_page.py`` fails while "
+                       "page and data disagree; ``doc/Developer.md`` has the details).")
+    speed_started = False
+    for name, source in sources.items():
+        kind = source["kind"]
+        if kind != "validate" and not speed_started:
+            lines += heading("Speed", "=")
+            speed_started = True
+        lines += SECTIONS[kind](name, source, data[name])
+    while lines and lines[-1] == "":
+        lines.pop()
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m esph.results_page", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--check", action="store_true",
+                        help="compare the committed page with the data; exit 1 if they differ")
+    parser.add_argument("--results", default=str(RESULTS), help="folder of the JSON files")
+    parser.add_argument("--page", default=str(PAGE), help="the page (doc/Results.rst)")
+    parser.add_argument("--import", dest="imports", nargs=3, action="append", default=[],
+                        metavar=("KIND", "TEXT", "JSON"),
+                        help="turn the printed table of a command that writes no JSON (KIND "
+                             "bench or bench3d; TEXT its stdout) into JSON, e.g. --import "
+                             "bench3d bench3d.txt doc/results/bench3d.json")
+    args = parser.parse_args(argv)
+    for kind, text, target in args.imports:
+        Path(target).write_text(json.dumps(PARSERS[kind](Path(text).read_text()), indent=1))
+        print(f"wrote {target}")
+    text = render(Path(args.results))
+    page = Path(args.page)
+    if args.check:
+        committed = page.read_text() if page.exists() else ""
+        if committed == text:
+            return 0
+        diff = difflib.unified_diff(committed.splitlines(), text.splitlines(),
+                                    f"{page} (committed)", f"{page} (from the data)", lineterm="")
+        print(f"{page} differs from what {args.results} gives; regenerate it with "
+              "'python -m esph.results_page':", file=sys.stderr)
+        print("\n".join(list(diff)[:60]), file=sys.stderr)
+        return 1
+    page.write_text(text)
+    print(f"wrote {page}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
