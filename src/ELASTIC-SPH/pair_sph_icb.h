@@ -91,8 +91,7 @@ class PairSPHICB : public PairSPHElastic {
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;
   const char *style_name() const override { return "sph/icb"; }
-  // measured on a vibrating block (h = 1.2 dx, sinc5): unstable from 0.55 h/c
-  // with the quadratic gradient, from 1.0 h/c with the linear one
+  // the stable timestep in units of h/c (how it was measured: the .cpp)
   double stable_fraction() const override;
   void refresh_partner_indices();
   bool partner_indices_current() const;

@@ -45,10 +45,11 @@ std::unique_ptr<LinearSolver> LinearSolverChoice::make() const
 
 /* ----------------------------------------------------------------------
    min_modify solver auto (the default): a 3d body's Hessian has ~1400
-   entries per row, so factorising it on rank 0 takes 4x the time and 4x
-   the memory of PETSc's matrix-free CG already at 10 k atoms, and runs out
-   of memory at 80 k; 2d Hessians are sparse enough for the direct solve
-   to win.  A factorisation asked for by min_modify factor gets it.
+   entries per row, so factorising it on rank 0 takes several times the
+   time and memory of PETSc's matrix-free CG (doc/Results.rst, 3D
+   solvers) and runs out of memory at 80 k atoms; 2d Hessians are sparse
+   enough for the direct solve to win.  A factorisation asked for by
+   min_modify factor gets it.
 ------------------------------------------------------------------------- */
 
 int LinearSolverChoice::automatic_backend() const
