@@ -170,14 +170,13 @@ void ComputeSPHElasticAtom::find_adjacent_partners()
   adjacent_r0.clear();
   for (int i = 0; i < nlocal; i++) {
     const int n = partners->npartner[i];
-    const double *pd = partners->pdata[i];
     double r0min = 0.0;
     for (int k = 0; k < n; k++) {
-      const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+      const double r0 = partners->r0(i, k);
       if (k == 0 || r0 < r0min) r0min = r0;
     }
     for (int k = 0; k < n; k++) {
-      const double r0 = pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+      const double r0 = partners->r0(i, k);
       if (r0 <= (1.0 + ADJACENT_TOL) * r0min) {
         adjacent_k.push_back(k);
         adjacent_r0.push_back(r0);
@@ -204,7 +203,7 @@ void ComputeSPHElasticAtom::stretch_of(int i, double &stretch, double &broken, d
   const int n = partners->npartner[i];
   if (n == 0) return;
   find_adjacent_partners();
-  const double support = pair->get_kernel().support();
+  const double support = pair->get_partners()->get_kernel().support();
   const double *const *const x = atom->x;
   const int *jl = pair->partner_indices(i);
   auto distance = [&](int k) {    // -1 if partner k is not even a ghost here

@@ -33,6 +33,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
 #include "memory.h"
@@ -108,7 +109,7 @@ void ComputeSPHProbe::init()
                "Compute sph/probe requires pair style sph/icb or sph/ccb");
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE, "Compute sph/probe requires atom_style sph/elastic");
-  fit_radius = (radius > 0.0) ? radius : RADIUS_IN_H * pair->get_kernel().h;
+  fit_radius = (radius > 0.0) ? radius : RADIUS_IN_H * pair->get_partners()->get_kernel().h;
   // mirror atoms are images of the body, odd in the displacement: not data
   excluded_groups = 0;
   for (auto *mirror : modify->get_fix_by_style("^sph/mirror$")) excluded_groups |= mirror->groupbit;
@@ -149,7 +150,7 @@ void ComputeSPHProbe::compute_array()
   const int *mask = atom->mask;
   const imageint *image = atom->image;
   const bool green = pair->has_green();
-  const SPHElastic::Kernel &kernel = pair->get_kernel();
+  const SPHElastic::Kernel &kernel = pair->get_partners()->get_kernel();
   const double to_kernel = kernel.support() / fit_radius;
 
   for (int i = 0; i < atom->nlocal; i++) {

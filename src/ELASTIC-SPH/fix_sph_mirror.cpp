@@ -36,7 +36,7 @@
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
-#include "pair_sph_icb.h"
+#include "pair_sph_elastic.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -163,12 +163,10 @@ void FixSPHMirror::init()
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires reference positions: use atom_style sph/elastic");
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
-  if (!pair)
+  if (!force->pair_match("sph/icb", 1))
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires pair_style sph/icb; to clamp a body integrated by "
                "another pair style, hold the clamp atoms with fix setforce");
-  pair->add_mirror_group(groupbit);
   // a second fix on the same group would hand each mirror's force over twice
   for (auto *other : modify->get_fix_by_style("^sph/mirror$"))
     if (other != this && other->igroup == igroup)
@@ -196,7 +194,7 @@ void FixSPHMirror::init()
 
 void FixSPHMirror::setup_pre_force(int /*vflag*/)
 {
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
   FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
   if (partners && !partners->built())
     build_partners_undisplaced(partners);
@@ -397,8 +395,9 @@ void FixSPHMirror::pair_up()
 
   // atoms of every mirror group (this one's and other fixes') are no
   // sources: a mirror of a mirror is not supported
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
-  const int other_mirrors = pair ? (pair->mirror_groups() & ~groupbit) : 0;
+  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
+  FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
+  const int other_mirrors = FixSPHPartners::mirror_groups(modify) & ~groupbit;
   std::vector<double> mirrors_mine, cands_mine;
   for (int i = 0; i < nlocal; i++) {
     const bool mirror = mask[i] & groupbit;
@@ -420,7 +419,7 @@ void FixSPHMirror::pair_up()
   // fraction of the spacing: the sources' own spacing then
   layer_spacing = (surface.axis() >= 0) ? 2.0 * dmin
                                         : SPHElastic::nearest_distance(cands, NPACK, 1, dmax);
-  if (pair) warn_if_thin(dmax, pair->get_kernel().support());
+  if (partners) warn_if_thin(dmax, partners->get_kernel().support());
 
   const SPHElastic::PointCells sources(cands, NPACK, 1, cell);
 
@@ -545,7 +544,7 @@ void FixSPHMirror::warn_if_atoms_behind(double reach)
       bodies[1] = std::min(bodies[1], -molecule[i]);
     }
   MPI_Allreduce(bodies, bodies_all, 2, MPI_LMP_TAGINT, MPI_MIN, world);
-  const int mirrorbits = mirror_groups_of_all_fixes();
+  const int mirrorbits = FixSPHPartners::mirror_groups(modify);
   bigint behind = 0, behind_all = 0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (mask[i] & mirrorbits) continue;
@@ -561,13 +560,6 @@ void FixSPHMirror::warn_if_atoms_behind(double reach)
                    "atoms, but are not in group {}: they act as body beyond the clamp. Put every "
                    "atom beyond the surface into the group (e.g. a region ending at it)",
                    id, behind_all, surface.describe(), group->names[igroup]);
-}
-
-int FixSPHMirror::mirror_groups_of_all_fixes() const
-{
-  int bits = 0;
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) bits |= fix->groupbit;
-  return bits;
 }
 
 /* ----------------------------------------------------------------------
@@ -605,7 +597,7 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
   const int i = atom->map(mirror);
   if (i < 0 || i >= atom->nlocal) return;
   if (atom->vfrac[i] == volume && atom->rmass[i] == mass) return;
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
   if (pair && pair->get_partners() && pair->get_partners()->built())
     error->one(FLERR, Error::NOLASTLINE,
                "Fix {} sph/mirror: mirror atom {} has volume {} and mass {} but its source {} "

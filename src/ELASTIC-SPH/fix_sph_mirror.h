@@ -108,7 +108,6 @@ class FixSPHMirror : public Fix {
   void check_other_fixes();
   void check_displacement_jump();
   void warn_if_atoms_behind(double reach);
-  int mirror_groups_of_all_fixes() const;
   double applied[3] = {0.0, 0.0, 0.0};    // the plane's displacement where the mirrors are
   double body_side = 0.0;                 // +1: the body lies where the distance is > 0
   double layer_spacing = 0.0;             // the particle spacing next to the surface

@@ -27,8 +27,6 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
-#include "pair_sph_elastic.h"
-#include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -44,8 +42,6 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-// doubles per partner in exchange and restart buffers: atom ID + data
-static constexpr int PACKED_PER_PARTNER = 1 + FixSPHPartners::NPDATA;
 // a moment matrix this badly conditioned means too few partners
 static constexpr double SINGULAR_TOL = 1.0e-10;
 // restart files since the fingerprint was added mark their first value so
@@ -147,8 +143,7 @@ void FixSPHPartners::pre_exchange()
       }
     }
     if (finite && longest <= limit) continue;
-    auto *pair = dynamic_cast<PairSPHElastic *>(force->pair);
-    const std::string advice = pair ? pair->instability_advice() : std::string();
+    const std::string advice = failure_advice ? failure_advice() : std::string();
     if (!finite)
       error->one(FLERR, Error::NOLASTLINE,
                  "Atom {} has a non-finite position at step {}: the run blew up: {}", atom->tag[i],
@@ -159,6 +154,15 @@ void FixSPHPartners::pre_exchange()
                atom->tag[i], partner[i][worst], pdata[i][worst * NPDATA + R0], longest,
                update->ntimestep, BLOWUP_SUPPORTS, advice);
   }
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHPartners::mirror_groups(Modify *modify)
+{
+  int bits = 0;
+  for (const auto *fix : modify->get_fix_by_style("^sph/mirror$")) bits |= fix->groupbit;
+  return bits;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -660,8 +664,7 @@ void FixSPHPartners::compute_corrections()
   const int dim = domain->dimension;
   const int nbasis = basis_size(dim, order);
   const double hinv = 1.0 / kernel.h;
-  const auto *icb = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
-  const int mirrorbits = icb ? icb->mirror_groups() : 0;
+  const int mirrorbits = mirror_groups(modify);
 
   if (atom->nmax > nmax_lcorr) {
     memory->destroy(lcorr);

@@ -23,6 +23,9 @@ FixStyle(SPH_PARTNERS,FixSPHPartners);
 #include "fix.h"
 #include "sph_elastic_kernel.h"
 
+#include <functional>
+#include <string>
+
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
@@ -35,9 +38,6 @@ namespace LAMMPS_NS {
 
 class FixSPHPartners : public Fix {
  public:
-  // doubles stored per partner: g_ij (3), g_ji (3), reference distance,
-  // reference offset X_j - X_i (3), (V_i |g_ij| + V_j |g_ji|) / (2 r0)
-  static constexpr int GIJ = 0, GJI = 3, R0 = 6, DX0 = 7, HGW = 10, NPDATA = 11;
   // largest least-squares basis (3d quadratic) and the d x basis block of
   // the inverse moment matrix that each atom sends to its ghosts
   static constexpr int MAXBASIS = 9, NCORR = 3 * MAXBASIS;
@@ -69,6 +69,16 @@ class FixSPHPartners : public Fix {
   // kernel, h or gradient order is refused (the partners depend on them)
   void set_kernel(const SPHElastic::Kernel &, const char *);
   void set_gradient_order(int, const char *);    // 1 linear, 2 quadratic
+  // the kernel and gradient order the partners are built with: the one
+  // copy every style of the package reads
+  const SPHElastic::Kernel &get_kernel() const { return kernel; }
+  int gradient_order() const { return order; }
+  // the groups of the mirror atoms of all fix sph/mirror (no strain energy,
+  // no sources of other mirrors): the one registry of them
+  static int mirror_groups(class Modify *);
+  // what a failed run's message advises (the pair style's time step
+  // advice), given by the pair style
+  void set_failure_advice(std::function<std::string()> advice) { failure_advice = advice; }
   // refuse a pair style that cannot continue from a state another style built
   void set_builder(const char *, bool needs_own_state);
   bool built() const { return !first; }
@@ -86,9 +96,24 @@ class FixSPHPartners : public Fix {
   int maxpartner;      // most partners of any atom
   int *npartner;       // number of partners of each owned atom
   tagint **partner;    // partner atom IDs, sorted ascending
-  double **pdata;      // NPDATA doubles per partner
+
+  // the reference data of partner k of owned atom i: the corrected kernel
+  // gradients g_ij and g_ji (3 each), the reference distance r0 and offset
+  // X_j - X_i (3), and the hourglass weight (V_i |g_ij| + V_j |g_ji|) / (2 r0)
+  const double *gij(int i, int k) const { return &pdata[i][k * NPDATA + GIJ]; }
+  const double *gji(int i, int k) const { return &pdata[i][k * NPDATA + GJI]; }
+  double r0(int i, int k) const { return pdata[i][k * NPDATA + R0]; }
+  const double *dx0(int i, int k) const { return &pdata[i][k * NPDATA + DX0]; }
+  double hourglass_weight(int i, int k) const { return pdata[i][k * NPDATA + HGW]; }
 
  private:
+  // doubles stored per partner: g_ij (3), g_ji (3), reference distance,
+  // reference offset X_j - X_i (3), (V_i |g_ij| + V_j |g_ji|) / (2 r0)
+  static constexpr int GIJ = 0, GJI = 3, R0 = 6, DX0 = 7, HGW = 10, NPDATA = 11;
+  // doubles per partner in exchange and restart buffers: atom ID + data
+  static constexpr int PACKED_PER_PARTNER = 1 + NPDATA;
+  double **pdata;    // NPDATA doubles per partner
+  std::function<std::string()> failure_advice;
   int first;    // 1 until the partners are built
   // what the partners were built from, to catch later changes: the atom
   // count, order-independent hashes of the volumes and molecule IDs, the

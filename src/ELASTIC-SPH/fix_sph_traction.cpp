@@ -95,6 +95,7 @@ const FixSPHMirror *mirror_owner(const std::vector<FixSPHMirror *> &mirrors, int
 FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr)
 {
+  mirror_bits = 0;
   if (narg < 6) utils::missing_cmd_args(FLERR, "fix sph/traction", error);
   const int dim = domain->dimension;
   int iarg = 3;
@@ -195,7 +196,7 @@ void FixSPHTraction::init()
                "Fix {} sph/traction under minimize needs the load's potential energy: add "
                "'fix_modify {} energy yes'",
                id, id);
-  support = pair->get_kernel().support();
+  support = pair->get_partners()->get_kernel().support();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -244,7 +245,7 @@ void FixSPHTraction::find_side()
   if (axis < 0) return;
   double **x0 = atom->x0;
   const int *mask = atom->mask;
-  const int mirrorbits = pair->mirror_groups();
+  const int mirrorbits = FixSPHPartners::mirror_groups(modify);
   bigint side[2] = {0, 0}, side_all[2];
   double extent[2] = {-INFINITY, -INFINITY}, extent_all[2];    // max and -min of X along axis
   for (int i = 0; i < atom->nlocal; i++) {
@@ -354,7 +355,7 @@ double FixSPHTraction::opposite_side(double group_far, bool &behind_group) const
 {
   double **x0 = atom->x0;
   const int *mask = atom->mask;
-  const int mirrorbits = pair->mirror_groups();
+  const int mirrorbits = FixSPHPartners::mirror_groups(modify);
   const double inward = -normal[axis];
   const double tol = SHARE_TOL * support;
   int behind = 0, behind_all = 0;
@@ -413,7 +414,7 @@ double FixSPHTraction::face_weight(int i) const
 double FixSPHTraction::normal_moment(int i, const int *jl) const
 {
   const FixSPHPartners *partners = pair->get_partners();
-  const SPHElastic::Kernel &kernel = pair->get_kernel();
+  const SPHElastic::Kernel &kernel = pair->get_partners()->get_kernel();
   double **x0 = atom->x0;
   double weight = 0.0, moment = 0.0;
   for (int k = 0; k < partners->npartner[i]; k++) {
@@ -450,10 +451,9 @@ bool FixSPHTraction::near_other_surface(int i, const int *jl) const
 bool FixSPHTraction::has_partner_in_group(int i, const int *jl) const
 {
   const int *mask = atom->mask;
-  const int mirrorbits = pair->mirror_groups();
   const FixSPHPartners *partners = pair->get_partners();
   for (int k = 0; k < partners->npartner[i]; k++)
-    if ((mask[jl[k]] & groupbit) && !(mask[jl[k]] & mirrorbits)) return true;
+    if ((mask[jl[k]] & groupbit) && !(mask[jl[k]] & mirror_bits)) return true;
   return false;
 }
 
@@ -467,16 +467,14 @@ void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
   const FixSPHPartners *partners = pair->get_partners();
   const double *vfrac = atom->vfrac;
   const int *mask = atom->mask;
-  const int mirrorbits = pair->mirror_groups();
-  const double *pd = partners->pdata[i];
+  const int mirrorbits = mirror_bits;
   const double vi = (mask[i] & mirrorbits) ? 0.0 : vfrac[i];
   b[0] = b[1] = b[2] = 0.0;
   for (int k = 0; k < partners->npartner[i]; k++) {
     const int j = jl[k];
     const double vj = (mask[j] & mirrorbits) ? 0.0 : vfrac[j];
-    const double *g = &pd[k * FixSPHPartners::NPDATA];
-    for (int a = 0; a < 3; a++)
-      b[a] += vi * g[FixSPHPartners::GIJ + a] - vj * g[FixSPHPartners::GJI + a];
+    const double *gij = partners->gij(i, k), *gji = partners->gji(i, k);
+    for (int a = 0; a < 3; a++) b[a] += vi * gij[a] - vj * gji[a];
   }
 }
 
@@ -499,7 +497,8 @@ void FixSPHTraction::build_coefficients()
 {
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
-  const int mirrorbits = pair->mirror_groups();
+  mirror_bits = FixSPHPartners::mirror_groups(modify);
+  const int mirrorbits = mirror_bits;
   std::vector<FixSPHMirror *> mirrors;
   for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
     mirrors.push_back(dynamic_cast<FixSPHMirror *>(fix));

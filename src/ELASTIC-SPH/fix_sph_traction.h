@@ -58,6 +58,7 @@ class FixSPHTraction : public Fix {
   SPHElastic::EqualValues values;    // traction vector, or the pressure in value[0]
   int nvalues;
   double support;           // kernel support 2h
+  int mirror_bits;          // the mirror groups, at the last build of the coefficients
   double half_thickness;    // atoms nearer to the face than this are its own
   bool shallow;             // body atoms outside the group lie behind it
   double gap;               // from the plane to the group's nearest atom

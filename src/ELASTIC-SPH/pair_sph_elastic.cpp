@@ -464,6 +464,9 @@ void PairSPHElastic::connect_partners()
   partners->set_builder(style_name(), needs_own_state());
   partners->set_kernel(kernel, style_name());
   partners->set_gradient_order(gradient_order, style_name());
+  partners->set_failure_advice([this] {
+    return instability_advice();
+  });
 }
 
 /* ----------------------------------------------------------------------

@@ -165,8 +165,7 @@ int PairSPHICB::parse_keyword(int iarg, int narg, char **arg)
 void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
-  jlocal_builds = -1;     // neighbor->ncalls restarts from 0 at every init
-  mirror_groupbit = 0;    // fix sph/mirror, initialised after the pair, sets it again
+  jlocal_builds = -1;    // neighbor->ncalls restarts from 0 at every init
 
   // the check of the state every minimisation ends in
   if (modify->get_fix_by_style("^SPH_MINIMIZE_CHECK$").empty())
@@ -197,6 +196,7 @@ void PairSPHICB::compute(int eflag, int vflag)
   grow_work();
   refresh_partner_indices();
   ncompute++;
+  mirror_groupbit = FixSPHPartners::mirror_groups(modify);
 
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
@@ -361,7 +361,6 @@ bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
   uint64_t listed = 0, skipped = 0;
   sweeps->clear(directed);
   for (const int i : order) {
-    const double *pd = partners->pdata[i];
     for (int k = 0; k < partners->npartner[i]; k++) {
       const int j = jlocal[i * mp + k];
       if (!directed && j < nlocal) {
@@ -372,10 +371,8 @@ bool PairSPHICB::list_pairs(const std::vector<int> &order, bool directed)
         }
         listed += key;
       }
-      const double *record = &pd[k * FixSPHPartners::NPDATA];
-      sweeps->add(i, j, dim, record + FixSPHPartners::GIJ, record + FixSPHPartners::GJI);
-      if (hourglass > 0.0)
-        sweeps->add_hourglass(dim, bond_stiffness(i, j, pd, k), record + FixSPHPartners::DX0);
+      sweeps->add(i, j, dim, partners->gij(i, k), partners->gji(i, k));
+      if (hourglass > 0.0) sweeps->add_hourglass(dim, bond_stiffness(i, j, k), partners->dx0(i, k));
     }
   }
   return listed == skipped;
@@ -559,11 +556,10 @@ double PairSPHICB::stress_pass(int i)
    with K's scale (the hourglass springs are alpha times it)
 ------------------------------------------------------------------------- */
 
-double PairSPHICB::bond_stiffness(int i, int j, const double *pd, int k) const
+double PairSPHICB::bond_stiffness(int i, int j, int k) const
 {
   const int *type = atom->type;
-  return 0.5 * (youngs[type[i]] + youngs[type[j]]) *
-      pd[k * FixSPHPartners::NPDATA + FixSPHPartners::HGW];
+  return 0.5 * (youngs[type[i]] + youngs[type[j]]) * partners->hourglass_weight(i, k);
 }
 
 /* ----------------------------------------------------------------------

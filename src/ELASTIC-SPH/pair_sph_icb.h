@@ -44,9 +44,6 @@ class PairSPHICB : public PairSPHElastic {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
-  // atoms of this group carry no strain energy (mirror atoms of fix sph/mirror)
-  void add_mirror_group(int groupbit) { mirror_groupbit |= groupbit; }
-  int mirror_groups() const { return mirror_groupbit; }
 
   // true if the forces are minus the gradient of the energy (stress pk1)
   bool has_energy() const { return measure == PK1; }
@@ -69,7 +66,7 @@ class PairSPHICB : public PairSPHElastic {
   double hourglass;       // hourglass-control coefficient alpha (0 = off)
   double **comm_array;    // what forward comm carries
   int comm_width;         // and how many values per atom
-  int mirror_groupbit;    // groups whose atoms have no strain energy, set by fixes
+  int mirror_groupbit;    // the partners' mirror groups (no strain energy), at the last compute()
   class FixSPHRotation *rotfix;
   double **defgrad;    // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;    // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
@@ -101,7 +98,7 @@ class PairSPHICB : public PairSPHElastic {
   bool list_pairs(const std::vector<int> &order, bool directed);
   template <int DIM> void force_divergence();
   double stress_pass(int i);
-  double bond_stiffness(int i, int j, const double *pd, int k) const;
+  double bond_stiffness(int i, int j, int k) const;
   template <int DIM> void hourglass_pairs();
   void grow_work();
 

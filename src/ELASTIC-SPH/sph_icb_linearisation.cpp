@@ -115,7 +115,6 @@ void ICBLinearisation::hessian(const BlockSink &add) const
 void ICBLinearisation::strain_hessian(int i, const int *jl, const BlockSink &add) const
 {
   const int n = pair.partners->npartner[i];
-  const double *pd = pair.partners->pdata[i];
   const tagint *tag = atom->tag;
   double F[3][3];
   for (int a = 0; a < 3; a++)
@@ -128,7 +127,7 @@ void ICBLinearisation::strain_hessian(int i, const int *jl, const BlockSink &add
   std::vector<tagint> id(n + 1);
   id[0] = tag[i];
   for (int k = 0; k < n; k++) {
-    const double *g = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::GIJ];
+    const double *g = pair.partners->gij(i, k);
     id[k + 1] = tag[jl[k]];
     for (int J = 0; J < 3; J++) {
       G[3 * (k + 1) + J] = g[J];
@@ -181,10 +180,9 @@ void ICBLinearisation::hourglass_hessian(int i, const int *jl, const BlockSink &
 {
   const int dim = domain->dimension;
   const tagint *tag = atom->tag;
-  const double *pd = pair.partners->pdata[i];
   for (int k = 0; k < pair.partners->npartner[i]; k++) {
     const int j = jl[k];
-    const double kij = pair.hourglass * pair.bond_stiffness(i, j, pd, k);
+    const double kij = pair.hourglass * pair.bond_stiffness(i, j, k);
     double plus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     double minus[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     for (int a = 0; a < dim; a++) {
@@ -340,10 +338,9 @@ void ICBLinearisation::spring_matrix(const BlockSink &add) const
   const double *const *const x = atom->x;
   const tagint *tag = atom->tag;
   for (int i = 0; i < atom->nlocal; i++) {
-    const double *pd = pair.partners->pdata[i];
     for (int k = 0; k < pair.partners->npartner[i]; k++) {
       const int j = pair.jlocal[i * mp + k];
-      const double kij = pair.bond_stiffness(i, j, pd, k);
+      const double kij = pair.bond_stiffness(i, j, k);
       double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
       const double r = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
       if (r > 0.0)
@@ -406,9 +403,8 @@ bool ICBLinearisation::compact_stencil(int i, const int *jl, std::vector<tagint>
   constexpr double SPANS = 1.0e-6;    // det M / (tr M / dim)^dim of a spanning shell
   const int dim = domain->dimension;
   const int n = pair.partners->npartner[i];
-  const double *pd = pair.partners->pdata[i];
   auto distance = [&](int k) {
-    return pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0];
+    return pair.partners->r0(i, k);
   };
   std::vector<int> order(n);
   for (int k = 0; k < n; k++) order[k] = k;
@@ -422,7 +418,7 @@ bool ICBLinearisation::compact_stencil(int i, const int *jl, std::vector<tagint>
     // add the next shell
     const double edge = SHELL * distance(order[used]);
     for (; used < n && distance(order[used]) <= edge; used++) {
-      const double *X = &pd[order[used] * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+      const double *X = pair.partners->dx0(i, order[used]);
       for (int a = 0; a < dim; a++)
         for (int b = 0; b < dim; b++) M[a][b] += X[a] * X[b];
     }
@@ -439,7 +435,7 @@ bool ICBLinearisation::compact_stencil(int i, const int *jl, std::vector<tagint>
   G.assign(3 * (size_t) (used + 1), 0.0);
   for (int s = 0; s < used; s++) {
     const int k = order[s];
-    const double *X = &pd[k * FixSPHPartners::NPDATA + FixSPHPartners::DX0];
+    const double *X = pair.partners->dx0(i, k);
     id[s + 1] = jl[k];
     for (int J = 0; J < dim; J++) {
       const double g = Minv[J][0] * X[0] + Minv[J][1] * X[1] + Minv[J][2] * X[2];
@@ -459,9 +455,8 @@ double ICBLinearisation::nearest_spacing() const
 {
   double nearest = std::numeric_limits<double>::max();
   for (int i = 0; i < atom->nlocal; i++) {
-    const double *pd = pair.partners->pdata[i];
     for (int k = 0; k < pair.partners->npartner[i]; k++)
-      nearest = std::min(nearest, pd[k * FixSPHPartners::NPDATA + FixSPHPartners::R0]);
+      nearest = std::min(nearest, pair.partners->r0(i, k));
   }
   double all = nearest;
   MPI_Allreduce(&nearest, &all, 1, MPI_DOUBLE, MPI_MIN, world);
