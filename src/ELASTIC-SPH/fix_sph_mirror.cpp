@@ -197,7 +197,7 @@ void FixSPHMirror::setup_pre_force(int /*vflag*/)
   auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
   FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
   if (partners && !partners->built())
-    build_partners_undisplaced(partners);
+    partners->build_with_mirrors();
   else
     pair_up();
   disp.evaluate(lmp);
@@ -283,24 +283,7 @@ void FixSPHMirror::check_other_fixes()
   }
 }
 
-/* ----------------------------------------------------------------------
-   the reference partners are found among the current neighbours: at the
-   first run, every mirror fix pairs up (copying its sources' volumes) and
-   puts its mirrors where no displacement of its plane would, and the
-   partners are built, before any plane moves its mirrors up to 2 u0 away
-   from their reference neighbours
-------------------------------------------------------------------------- */
-
-void FixSPHMirror::build_partners_undisplaced(FixSPHPartners *partners)
-{
-  const double zero[3] = {0.0, 0.0, 0.0};
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
-    auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
-    mirror->pair_up();
-    mirror->place_mirrors(zero);
-  }
-  partners->build_if_first();
-}
+/* ---------------------------------------------------------------------- */
 
 void FixSPHMirror::setup(int vflag)
 {

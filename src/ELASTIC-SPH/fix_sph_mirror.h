@@ -46,6 +46,10 @@ namespace LAMMPS_NS {
 
 class FixSPHMirror : public Fix {
  public:
+  // pair every mirror with its source (and copy its volume); put the
+  // mirrors where the surface displaced by u0 puts them
+  void pair_up();
+  void place_mirrors(const double *u0);
   FixSPHMirror(class LAMMPS *, int, char **);
   ~FixSPHMirror() override;
   int setmask() override;
@@ -100,10 +104,7 @@ class FixSPHMirror : public Fix {
   void parse_keywords(int, int, char **);
   void warn_if_thin(double dmax, double support);
   bool thin_warned = false;
-  void pair_up();
   void copy_volume(tagint, double, double);
-  void place_mirrors(const double *u0);
-  void build_partners_undisplaced(class FixSPHPartners *);
   void hand_over_forces();
   void check_other_fixes();
   void check_displacement_jump();

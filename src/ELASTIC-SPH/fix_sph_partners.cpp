@@ -22,6 +22,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_sph_mirror.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
@@ -239,20 +240,32 @@ void FixSPHPartners::set_gradient_order(int new_order, const char *pair_name)
 
 /* ----------------------------------------------------------------------
    called before the first force computation of both run and minimize.
-   With fix sph/mirror the first build waits for the mirror fixes, which
-   place their atoms and copy their sources' volumes before they build the
-   partners (FixSPHMirror::build_partners_undisplaced): this fix comes
-   before them in the list whenever the pair style was initialised before
-   they were defined (write_data, write_restart, an earlier run 0 of
-   another setup), and building here would take the mirrors as they were.
+   The first build places the mirror fixes' atoms first: this fix may come
+   before or after them in the fix list (before them whenever the pair
+   style was initialised before they were defined: write_data,
+   write_restart, an earlier run 0 of another setup)
 ------------------------------------------------------------------------- */
 
 void FixSPHPartners::setup_pre_force(int /*vflag*/)
 {
   if (!first)
     check_reference_unchanged();
-  else if (modify->get_fix_by_style("^sph/mirror$").empty())
-    build();
+  else
+    build_with_mirrors();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHPartners::build_with_mirrors()
+{
+  if (!first) return;
+  const double undisplaced[3] = {0.0, 0.0, 0.0};
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
+    auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
+    mirror->pair_up();
+    mirror->place_mirrors(undisplaced);
+  }
+  build();
 }
 
 /* ----------------------------------------------------------------------

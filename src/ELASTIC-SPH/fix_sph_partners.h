@@ -82,12 +82,12 @@ class FixSPHPartners : public Fix {
   // refuse a pair style that cannot continue from a state another style built
   void set_builder(const char *, bool needs_own_state);
   bool built() const { return !first; }
-  // build the partners now if they were not (a fix whose setup would move
-  // atoms away from their reference neighbours first)
-  void build_if_first()
-  {
-    if (first) build();
-  }
+  // the first build: every fix sph/mirror pairs up (copying its sources'
+  // volumes) and puts its mirrors where no displacement of its surface
+  // would, then the partners are built, before any surface moves its
+  // mirrors away from their reference neighbours.  Called by whichever of
+  // this fix and the mirror fixes comes first in setup
+  void build_with_mirrors();
   // true if the partners of any sph pair style were built (from the
   // reference positions and volumes, which may then no longer change)
   static bool any_built(class Modify *);
