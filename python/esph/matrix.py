@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from . import theory
-from .problems import BEAM, TRUSS, beam_exact, truss_exact
+from .problems import BEAM, PROBLEMS, TRUSS, beam_exact, truss_exact
 from .report import print_head, write_rows
 from .runner import RunError, run_mpi
 from .schemes import PAIR_SCHEMES
@@ -55,10 +55,15 @@ def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
     return out
 
 
+def _geometry(problem: str) -> str:
+    p = PROBLEMS[problem]
+    return f"L = {p.L:g} m, H = {p.H * 100:g} cm, E = {p.E / 1e9:g} GPa"
+
+
 def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOADS,
                progress=print) -> list[Outcome]:
     rows = []
-    print(f"\nTable 1: beam (L = 0.2 m, H = 2 cm, E = 20 GPa, nu = 0, plane stress), dx = "
+    print(f"\nTable 1: beam ({_geometry('beam')}, nu = 0, plane stress), dx = "
           f"{dx * 1e3:g} mm; tip dv in mm, error against the elastica at s = L - dx/2")
     head = f"{'Fy[N]':>6} {'exact':>8} | " + " | ".join(
         f"{PAPER_NAME[s]:>6} {'ours':>8} {'err':>6} {'paper':>7}" for s in SCHEMES)
@@ -84,7 +89,7 @@ def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_L
                 progress=print) -> list[Outcome]:
     truss = theory.Truss()
     rows = []
-    print(f"\nTable 3: truss (L = 0.2 m, H = 5 cm, E = 2 GPa, nu = 0, plane stress), dx = "
+    print(f"\nTable 3: truss ({_geometry('truss')}, nu = 0, plane stress), dx = "
           f"{dx * 1e3:g} mm; tip dh in mm.  exact = the scheme's own model at X = L - dx/2 "
           "(ICB: Green strain + SVK, P = F S; CCB: Jaumann rate, E ln(stretch) = F/A); "
           "linear = F L/(A E); lateral = |tip dv| (buckling shows here)")

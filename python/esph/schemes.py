@@ -2,8 +2,8 @@
 pair style and its options (gradient, clamp, volumes, load, hourglass
 control), a route (minimisation or damped dynamics) and a solver, with a
 label and the continuum model each tends to.  Read by validate (VARIANTS),
-speed (METHODS, BENCH_STYLES), statics (STATICS_ROUTES) and matrix
-(PAIR_SCHEMES); nothing here runs LAMMPS.  Problems are named as in the
+speed (METHODS, BENCH_STYLES), statics (STATICS_ROUTES), matrix
+(PAIR_SCHEMES) and bench3d (LINEAR_SOLVERS); nothing here runs LAMMPS.  Problems are named as in the
 catalogue (esph.problems)."""
 from __future__ import annotations
 
@@ -120,3 +120,7 @@ STATICS_ROUTES = {
     "cg-corotated": {"route": "min", "solver": "cg", "stress": "corotated"},
     "dyn-corotated": {"route": "dyn", "stress": "corotated", "tdamp": 30.0},
 }
+
+
+# the linear solvers of min_style sph/newton (min_modify solver), esph bench3d
+LINEAR_SOLVERS = ("direct", "mumps", "petsc")
