@@ -29,6 +29,10 @@ BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
 LAME = EXAMPLES / "lame" / "in.lame"
 
+# Lame's thick-walled cylinder of examples/lame: radii a < b (m), E (Pa), nu
+# and the pressure p (Pa)
+LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
+
 
 @dataclass(frozen=True)
 class Problem:

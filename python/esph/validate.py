@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from . import plots, theory
-from .problems import BEAM, CATALOGUE, PROBLEMS, beam_exact, truss_exact
+from .problems import BEAM, CATALOGUE, LAME_GEOMETRY, PROBLEMS, beam_exact, truss_exact
 from .reference import continuum_dv, continuum_tip
 from .report import order, print_head, write_rows
 from .runner import TipResult, run_tip
@@ -347,7 +347,6 @@ def table6(full: bool, nprocs: int = 1, stress: str = "pk1", progress=print) -> 
 
 # Table 7: particle layers through the wall of Lame's cylinder
 TABLE7_NW = {False: (10, 20), True: (10, 20, 40)}
-LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
 
 
 def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1, support: str = "pins") -> dict:
