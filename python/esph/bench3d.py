@@ -10,11 +10,12 @@ import re
 import sys
 
 from .paths import lmp_binary
-from .problems import BEAM3D
+from .problems import BEAM3D, PROBLEMS
 from .report import command_line, machine, print_head
 from .runner import RunError, _var_args, mpirun_command, run_mpirun
+from .schemes import LINEAR_SOLVERS
 
-SOLVERS = ("direct", "mumps", "petsc")
+SOLVERS = LINEAR_SOLVERS     # the choices of esph bench3d --solvers
 
 # runs lmp as a child and reports its peak resident memory: one line per rank
 _WRAP = ("import os, resource, subprocess, sys\n"
@@ -56,7 +57,8 @@ def bench3d(dxs, nprocs_list, solvers, side: float, timeout: float) -> None:
     print_head(f"{'dx[mm]':>6} {'atoms':>7} {'ranks':>5} {'solver':>7} {'iters':>5} "
                f"{'wall[s]':>8} {'MB/rank':>8} {'dyn100[s]':>9} {'ratio':>6}  solver log / command")
     for dx in dxs:
-        geometry = {"dx": dx, "H": side, "W": side, "L": 10 * side, "Fy": -1500 * (side / 0.02)**2}
+        geometry = {"dx": dx, "H": side, "W": side, "L": 10 * side,
+                    "Fy": -1500 * (side / PROBLEMS["beam3d"].H)**2}
         for nprocs in nprocs_list:
             dynamics = run_measured({**geometry, "route": "nve", "nsteps": 100}, nprocs, timeout)
             for solver in solvers:

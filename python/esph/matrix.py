@@ -7,12 +7,13 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from . import theory
-from .problems import BEAM, TRUSS, beam_exact, truss_exact
+from .problems import BEAM, PROBLEMS, TRUSS, beam_exact, truss_exact
 from .report import print_head, write_rows
 from .runner import RunError, run_mpi
+from .schemes import PAIR_SCHEMES
 
-SCHEMES = ("ccb", "ccbwat", "icb")
-PAPER_NAME = {"ccb": "CCB", "ccbwat": "CCBWAT", "icb": "ICB"}
+SCHEMES = tuple(PAIR_SCHEMES)
+PAPER_NAME = {name: s.paper_name for name, s in PAIR_SCHEMES.items()}
 
 
 @dataclass
@@ -35,13 +36,13 @@ class Outcome:
 
 def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
     """ICB by minimisation (pk1: exact energy gradient), CCB and CCBWAT by
-    damped dynamics with the failure monitor of examples/common/in.failure."""
-    route = "min" if scheme == "icb" else "dyn"
-    stress = {"stress": "pk1"} if scheme == "icb" else {}
+    damped dynamics (schemes.PAIR_SCHEMES) with the failure monitor of
+    examples/common/in.failure."""
     load = variables.get("Fy", variables.get("Fx"))
     out = Outcome(scheme, load)
     try:
-        res = run_mpi(script, {**variables, "scheme": scheme, "route": route, **stress}, nprocs)
+        res = run_mpi(script, {**variables, "scheme": scheme, **PAIR_SCHEMES[scheme].variables},
+                      nprocs)
     except RunError as err:      # a LAMMPS error: non-finite state, inverted particle
         out.failed, out.reason = True, err.error
         return out
@@ -54,10 +55,15 @@ def run_case(script, scheme: str, variables: dict, nprocs: int) -> Outcome:
     return out
 
 
+def _geometry(problem: str) -> str:
+    p = PROBLEMS[problem]
+    return f"L = {p.L:g} m, H = {p.H * 100:g} cm, E = {p.E / 1e9:g} GPa"
+
+
 def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOADS,
                progress=print) -> list[Outcome]:
     rows = []
-    print(f"\nTable 1: beam (L = 0.2 m, H = 2 cm, E = 20 GPa, nu = 0, plane stress), dx = "
+    print(f"\nTable 1: beam ({_geometry('beam')}, nu = 0, plane stress), dx = "
           f"{dx * 1e3:g} mm; tip dv in mm, error against the elastica at s = L - dx/2")
     head = f"{'Fy[N]':>6} {'exact':>8} | " + " | ".join(
         f"{PAPER_NAME[s]:>6} {'ours':>8} {'err':>6} {'paper':>7}" for s in SCHEMES)
@@ -82,9 +88,8 @@ def beam_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_BEAM_LOA
 def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_LOADS,
                 progress=print) -> list[Outcome]:
     truss = theory.Truss()
-    model = {"icb": "pk1", "ccb": "hypo", "ccbwat": "hypo"}
     rows = []
-    print(f"\nTable 3: truss (L = 0.2 m, H = 5 cm, E = 2 GPa, nu = 0, plane stress), dx = "
+    print(f"\nTable 3: truss ({_geometry('truss')}, nu = 0, plane stress), dx = "
           f"{dx * 1e3:g} mm; tip dh in mm.  exact = the scheme's own model at X = L - dx/2 "
           "(ICB: Green strain + SVK, P = F S; CCB: Jaumann rate, E ln(stretch) = F/A); "
           "linear = F L/(A E); lateral = |tip dv| (buckling shows here)")
@@ -98,7 +103,7 @@ def truss_table(dx: float, nprocs: int, tdamp: float, loads=theory.PAPER_TRUSS_L
             progress(f"[esph] truss {scheme} Fx = {load:g} N ...")
             o = run_case(TRUSS, scheme, {"Fx": load, "dx": dx, "tdamp": tdamp}, nprocs)
             rows.append(o)
-            exact = truss_exact(load, dx, model[scheme])
+            exact = truss_exact(load, dx, PAIR_SCHEMES[scheme].model)
             paper = theory.PAPER_TRUSS[PAPER_NAME[scheme]][k]
             paper_txt = f"{paper:7.2f}" if paper is not None else f"{'broken':>7}"
             if o.failed:

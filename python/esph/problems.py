@@ -1,6 +1,11 @@
-"""The validation problems in one place: which example script runs each,
-which variable loads it, which schemes (variants) it can run with, and the
-reference answers at the material point the scripts measure.
+"""The problem catalogue: every validation problem once, with its geometry,
+material and loads, the example script that runs it and the variable that
+loads it, the finite-element reference's parameters (esph.fe solves and
+tabulates the entries of END_LOAD_PROBLEMS, GRAVITY_PROBLEMS and
+CYLINDER_PROBLEMS), and the closed-form reference answers at the material
+point the scripts measure.  The paper's cantilever and truss are written
+once, as theory.Beam and theory.Truss; every entry of that geometry takes
+them from there.
 
 Every beam and truss script reports the centroid of the tip column, whose
 particles sit at X = L - dx/2; every reference answer here is evaluated
@@ -8,9 +13,10 @@ there.  Where the load acts is a separate matter: on the last column it acts
 at L - dx/2 too, a face traction acts at x = L."""
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from . import theory
 from .paths import EXAMPLES
@@ -23,44 +29,229 @@ BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
 LAME = EXAMPLES / "lame" / "in.lame"
 
+# Lame's thick-walled cylinder of examples/lame: radii a < b (m), E (Pa), nu
+# and the pressure p (Pa)
+LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
+
 
 @dataclass(frozen=True)
 class Problem:
     name: str
-    script: Path
-    load_var: str        # the example variable that sets the load, in N
-    component: str       # the tip displacement compared: dh (along x) or dv (along y)
+    dim: int
+    L: float
+    H: float
+    E: float
+    # the FE reference's loads (in path order is not required: sorted per
+    # sign), the particle spacings of its tip columns and its (nu, plane)
+    # pairs (plane "3d" in 3D); empty for a problem without one
+    loads: tuple = ()
+    dxs: tuple = ()
+    cases: tuple = ()
+    W: float = 0.0          # 3D width (z)
+    t: float = 1.0e-3       # 2D thickness
+    component: int = 1      # load direction: 0 axial, 1 transverse (y)
+    symmetric_y: bool = False   # keep the solution mirror-symmetric in y (truss)
+    half_z: bool = False        # 3D: model z < W/2 only, u_z = 0 on the plane z = W/2
+    # mesh family (see make_mesh) and its levels (the last is stored)
+    grade: dict = field(default_factory=dict)
+    levels: tuple = (0, 1, 2)
+    # ((nu, plane), levels) pairs: cases computed on other levels than `levels`
+    case_levels: tuple = ()
+    note: str = ""
+    max_step: float = 1.0 / 8.0     # load increments <= max_step * max|load|
+    # "end": the loads are the resultant (N) of a dead uniform traction on x = L;
+    # "gravity": the loads are the acceleration component g[component] (m/s^2)
+    # of a dead body force rho g per unit reference volume (the gravity
+    # problems, GRAVITY_PROBLEMS)
+    load_kind: str = "end"
+    rho: float = 0.0                # density (kg/m^3), gravity problems
+    # extra single material points reported besides the tip columns:
+    # (name, x, y) (2D)
+    points: tuple = ()
+    # > 0: the left end is not the straight face x = 0 but the concave arc
+    # x_arc(y) = -R + sqrt(R^2 - (y - H/2)^2) of a rigid cylinder of radius R
+    # = clamp_radius, centre (-R, H/2), to which it is fully clamped (the
+    # CYLINDER_PROBLEMS; make_mesh maps the tensor mesh onto that domain and
+    # arc_mapping represents its geometry exactly)
+    clamp_radius: float = 0.0
+
+    # the example script that runs it (None: the FE reference only), the
+    # example variable that sets its load (N, or m/s^2 for gy)
+    script: Path | None = None
+    load_var: str = ""
+
+    @property
+    def area(self) -> float:
+        return self.H * (self.t if self.dim == 2 else self.W)
+
+    @property
+    def compared(self) -> str:
+        """The tip displacement compared: dh (along x) or dv (along y)."""
+        return "dh" if self.component == 0 else "dv"
 
 
-PROBLEMS = {
-    "beam": Problem("beam", BEAM, "Fy", "dv"),
-    "truss": Problem("truss", TRUSS, "Fx", "dh"),
-    "beam3d": Problem("beam3d", BEAM3D, "Fy", "dv"),
-    "beam_tlsph": Problem("beam_tlsph", BEAM_TLSPH, "Fy", "dv"),
+# -- the paper's cantilever and truss: their geometry and material are
+# theory.Beam's and theory.Truss's, written there once ---------------------
+
+_BEAM = theory.Beam()
+_TRUSS = theory.Truss()
+# the 2D cantilever (thickness t), and the 3D one of square section (W = H)
+CANTILEVER = dict(dim=2, L=_BEAM.L, H=_BEAM.H, E=_BEAM.E, t=_BEAM.t)
+CANTILEVER_3D = dict(CANTILEVER, dim=3, W=_BEAM.H)
+# the 3D cantilever at half the size (beam3d_short)
+SHORT_CANTILEVER_3D = dict(CANTILEVER_3D, L=0.1, H=0.01, W=0.01)
+BAR = dict(dim=2, L=_TRUSS.L, H=_TRUSS.H, E=_TRUSS.E, t=_TRUSS.t)
+# the cantilever's end-face centre (L, H/2), a single material point of the
+# gravity problems
+END_CENTRE = (("end", _BEAM.L, 0.5 * _BEAM.H),)
+
+# -- the problems with a finite-element reference (esph.fe) -------------------
+# END_LOAD_PROBLEMS: a dead end traction (table data/fe_reference.json)
+
+BEAM_LOADS = (-10.0, -25.0, -50.0, -75.0, -150.0, -250.0)
+TRUSS_LOADS = (1000.0, -1000.0, 3000.0, -3000.0, 5000.0, -5000.0, 7000.0, -7000.0)
+
+NOTE_3D = ("Half model z <= W/2 (symmetry plane u_z = 0), so dz = 0 by construction "
+           "(a full model gives the same dh, dv and dz ~ 0: tests/test_fe.py). Finest mesh "
+           "~1e5 DOFs (SuperLU, ~4 GB). At nu = 0 the 3D solution is exactly the 2D "
+           "plane-stress one and the FE error equals that of the 2D mesh with the same (x, y) "
+           "layers: 2D analogue of this family, level 2: actual error 1.2e-5, Richardson "
+           "estimate 1.4e-5. At nu = 0.3 the same 2D analogue has actual error 4.2e-5 against a "
+           "Richardson estimate of 2.2e-5: the clamp-corner term (layers stop at hmin) takes "
+           "over at the finest level, so the nu = 0.3 estimates here may be optimistic by ~2x.")
+
+END_LOAD_PROBLEMS = {
+    "beam": Problem("beam", **CANTILEVER, loads=BEAM_LOADS, script=BEAM, load_var="Fy",
+                    dxs=(0.005, 0.004, 0.002, 0.001, 0.0005, 0.00025),
+                    cases=((0.0, "stress"), (0.0, "strain"), (0.3, "stress"), (0.3, "strain")),
+                    grade=dict(zone_x0=0.02, zone_x1=0.02, ratio=0.25, hmin=1e-4, n_mid=8),
+                    levels=(1, 2, 3)),
+    "truss": Problem("truss", **BAR, loads=TRUSS_LOADS, script=TRUSS, load_var="Fx",
+                     dxs=(0.01, 0.005, 0.0025, 0.002, 0.001, 0.0005),
+                     cases=((0.0, "stress"), (0.0, "strain"), (0.3, "stress"), (0.3, "strain")),
+                     component=0, symmetric_y=True,
+                     grade=dict(zone_x0=0.025, zone_x1=0.025, ratio=0.25, hmin=1e-3, n_mid=6),
+                     levels=(1, 2, 3),
+                     note="nu = 0: homogeneous, exact (1-D SVK bar) on every mesh. nu = 0.3 in "
+                          "compression: SVK's compressive softening at the clamped corners "
+                          "(Newton fails once layers finer than ~1e-4 m resolve them) limits "
+                          "hmin to 1e-3 and slows convergence at -5000/-7000 N (observed order "
+                          "~1, plane strain worst)."),
+    "beam3d": Problem("beam3d", **CANTILEVER_3D, loads=(-200.0, -1500.0, -5000.0),
+                      dxs=(0.005, 0.004, 0.002, 0.001), cases=((0.3, "3d"), (0.0, "3d")),
+                      script=BEAM3D, load_var="Fy", half_z=True, max_step=0.2,
+                      grade=dict(zone_x0=0.02, zone_x1=0.02, ratio=0.25, hmin=2.5e-3, n_mid=4),
+                      note=NOTE_3D),
+    "beam3d_short": Problem("beam3d_short", **SHORT_CANTILEVER_3D,
+                            loads=(-50.0, -400.0, -1250.0),
+                            dxs=(0.0025, 0.002, 0.00125, 0.001),
+                            cases=((0.3, "3d"), (0.0, "3d")), half_z=True, max_step=0.2,
+                            grade=dict(zone_x0=0.01, zone_x1=0.01, ratio=0.25, hmin=1.25e-3,
+                                       n_mid=4),
+                            note=NOTE_3D),
 }
 
-# the schemes a beam or truss script can run, by name: a label and the
-# example variables that select them
-PAPER = {"grad": "linear", "clamp": "fixed", "volumes": "cells", "load": "column", "hg": 0.0}
-QUADRATIC_MIRROR = {"grad": "quadratic", "clamp": "mirror", "volumes": "cells", "load": "column",
-                    "hg": 0.0}
-DEFAULT = {"grad": "quadratic", "clamp": "mirror", "volumes": "exact", "load": "traction",
-           "hg": 0.2}
-VARIANTS = {
-    "linear/fixed": ("the paper's scheme: linear gradient correction, fixed clamp, cell volumes, "
-                     "load on the last column", PAPER),
-    "quadratic/fixed": ("gradient exact for quadratic fields, fixed clamp, cell volumes, column load",
-                        {**QUADRATIC_MIRROR, "clamp": "fixed"}),
-    "quadratic/mirror": ("gradient exact for quadratic fields, mirror clamp, cell volumes, column "
-                         "load (the last release's recommendation)", QUADRATIC_MIRROR),
-    "linear/mirror": ("linear gradient correction, mirror clamp, cell volumes, column load",
-                      {**PAPER, "clamp": "mirror"}),
-    "default": ("the defaults: quadratic gradient, mirror clamp, exact volumes "
-                "(set_sph_volumes), traction on the end face (fix sph/traction), hourglass "
-                "control 0.2", DEFAULT),
-}
-VARIANT_LABELS = {name: label for name, (label, _) in VARIANTS.items()}
 
+# -- the beam under its own weight (a dead body force rho g) -------------------
+
+# g_y in m/s^2 (g = (0, g_y)): 1 and 9.81 are linear (the table checks dv
+# scales with g), 1e4 and 6e4 geometrically nonlinear (tip rotation ~0.02
+# and ~0.12 rad)
+GRAVITY_LOADS = (-1.0, -9.81, -1.0e4, -6.0e4)
+
+GRAVITY_NOTE = (
+    "The beam's mesh family with the geometric layers down to hmin = 1e-5 (innermost "
+    "layer 2e-5 m) instead of 1e-4: at nu = 0.4 plane strain (clamp-corner exponent "
+    "0.65, theory.clamp_corner_order) hmin = 1e-4 converged at observed order 2.4 and its "
+    "Richardson estimate (2.0e-6) was optimistic by 2x; with 1e-5 the order is 3.3 and "
+    "the estimate honest: a level-4 solve (411k DOFs) moved the stored level-3 dv by "
+    "3.7e-7 (estimate 4.0e-7) and dh by 6.6e-7 (estimate 7.0e-7); hmin = 1e-6 agrees "
+    "within 2e-7 but raises the Newton residual's round-off floor to 1.5e-5. dh is "
+    "second order in g (zero in linear theory by the mirror symmetry about mid-height), "
+    "dv odd: dv(9.81)/dv(1) = 9.81 (1 - 1.7e-10). Cross-checks (tests/test_fe.py): the "
+    "end-centre dv at g = 9.81 against the Timoshenko beam (kappa = 5/6, "
+    "gravity_beam_tip): -2.6e-5 (nu = 0), -0.22 % (nu = 0.3, stress), -0.96 % (nu = 0.4, "
+    "strain; the clamp restrains the Poisson contraction); the axis' second difference "
+    "against the exact plane-elasticity polynomial solution (gravity_elasticity_axis).")
+
+GRAVITY_PROBLEMS = {
+    "beam_gravity": Problem("beam_gravity", **CANTILEVER, loads=GRAVITY_LOADS,
+                            dxs=(0.002, 0.001, 0.0005),
+                            cases=((0.0, "stress"), (0.3, "stress"), (0.4, "strain")),
+                            script=BEAM, load_var="gy",
+                            load_kind="gravity", rho=1000.0, points=END_CENTRE,
+                            grade=dict(zone_x0=0.02, zone_x1=0.02, ratio=0.25, hmin=1e-5,
+                                       n_mid=8),
+                            levels=(1, 2, 3),
+                            note=GRAVITY_NOTE),
+}
+
+
+# -- the beam under its own weight, clamped to a rigid cylinder ----------------
+
+CYLINDER_LOADS = (-9.81, -6.0e4)
+CYLINDER_RADIUS = 0.02
+
+CYLINDER_NOTE = (
+    "The beam of beam_gravity (same mesh family in the reference coordinates (s, y), "
+    "s in [0, L]) whose left end is the concave arc x_arc(y) = -R + sqrt(R^2 - (y - H/2)^2) "
+    "of a rigid cylinder (R = 0.02 m, centre (-R, H/2)), fully clamped there; the mesh is "
+    "mapped by x = x_arc(y) + (s/L)(L - x_arc(y)) and the element geometry is that exact "
+    "map (arc_mapping: the bilinear reference rectangle composed with it), so the domain "
+    "is represented exactly (area to round-off). The arc meets the free faces y = 0, H at "
+    "60 degrees (90 - asin(H/(2R))); Williams exponent of that clamped-free wedge "
+    "(theory.wedge_exponents): 0.869 at nu = 0.4 plane strain, 1.258 at nu = 0 plane stress "
+    "(0.650 and 1 at the straight clamp's 90 degrees); observed orders 3.7-3.9. nu = 0 is "
+    "computed on levels 1-3 (estimate 9.4e-7), nu = 0.4 on levels 2-4 (case_levels; "
+    "estimate 8.9e-8; on levels 1-3 it was 1.4e-6, and level 4 moved that level-3 value by "
+    "6.1e-7, so the estimate was honest). Cross-check "
+    "against the straight-clamp table (beam_gravity): with R = 100 m every entry (levels "
+    "1-3) differs from it by the geometric effect of the arc's bulge (c^2/(2R) = 5e-7 m at "
+    "the corners), which goes as 1/R (R = 1e2, 1e3, 1e4, 1e8 on level 1): 7.6e-4 m/R "
+    "relative in dv and 1.3e-3 m/R in dh at nu = 0.4 (6.1e-4 and 1.05e-3 at nu = 0), to "
+    "within 7e-8 relative, well inside the tables' error estimates; at R = 1e8 the level-1 "
+    "values equal beam_gravity's level-1 values to 3e-11 (tests/test_fe.py).")
+
+CYLINDER_PROBLEMS = {
+    "beam_cylinder": Problem("beam_cylinder", **CANTILEVER, loads=CYLINDER_LOADS,
+                             dxs=(0.002, 0.001, 0.0005),
+                             cases=((0.4, "strain"), (0.0, "stress")),
+                             load_kind="gravity", rho=1000.0, points=END_CENTRE,
+                             grade=dict(zone_x0=0.02, zone_x1=0.02, ratio=0.25, hmin=1e-5,
+                                        n_mid=8),
+                             levels=(1, 2, 3), case_levels=(((0.4, "strain"), (2, 3, 4)),),
+                             clamp_radius=CYLINDER_RADIUS,
+                             note=CYLINDER_NOTE),
+}
+
+
+# -- the whole catalogue ------------------------------------------------------
+
+# problems an example script runs without an FE reference of their own
+SCRIPT_ONLY = {
+    "beam_tlsph": Problem("beam_tlsph", **CANTILEVER, script=BEAM_TLSPH, load_var="Fy"),
+    "beam3d_tlsph": Problem("beam3d_tlsph", **CANTILEVER_3D, script=BEAM3D_TLSPH, load_var="Fy"),
+}
+
+CATALOGUE = {**END_LOAD_PROBLEMS, **GRAVITY_PROBLEMS, **CYLINDER_PROBLEMS, **SCRIPT_ONLY}
+
+# the problems the examples' driver runs by name: those with a script
+PROBLEMS = {name: p for name, p in CATALOGUE.items() if p.script is not None}
+
+# the problems with an FE reference
+ALL_PROBLEMS = (*END_LOAD_PROBLEMS, *GRAVITY_PROBLEMS, *CYLINDER_PROBLEMS)
+
+
+def problem_by_name(name: str) -> Problem:
+    """The problem `name` with an FE reference: END_LOAD_PROBLEMS (end loads),
+    GRAVITY_PROBLEMS or CYLINDER_PROBLEMS."""
+    for group in (END_LOAD_PROBLEMS, GRAVITY_PROBLEMS, CYLINDER_PROBLEMS):
+        if name in group:
+            return group[name]
+    raise KeyError(f"unknown problem {name!r}: {', '.join(ALL_PROBLEMS)}")
+
+
+# -- reference answers at the material point ------------------------------------
 
 def tip_point(length: float, dx: float) -> float:
     """Reference x of the tip column's particles, where the scripts measure."""
@@ -91,7 +282,7 @@ def truss_exact(load: float, dx: float, model: str) -> float:
 
 
 def exact_tip(problem: str, load: float, dx: float, model: str = "pk1") -> float:
-    """The compared component (PROBLEMS[problem].component) of the exact
+    """The compared component (PROBLEMS[problem].compared) of the exact
     answer of a 2D beam or truss."""
     if problem in ("beam", "beam_tlsph"):
         return beam_exact(load, dx)[1]
@@ -100,30 +291,81 @@ def exact_tip(problem: str, load: float, dx: float, model: str = "pk1") -> float
     raise ValueError(f"no closed-form answer for {problem!r}: use continuum_tip")
 
 
-def continuum_tip(problem: str, load: float, dx: float, nu: float = 0.0, plane: str = "stress",
-                  stress: str = "pk1") -> dict:
-    """Tip column means (dh, dv, dz) of the finite-element continuum (esph.fe,
-    loaded on the end face), or nans where it has none."""
-    nan = {"dh": math.nan, "dv": math.nan, "dz": math.nan, "error_estimate": math.nan}
-    if stress != "pk1":
-        return nan    # the FE solves Green strain + St. Venant-Kirchhoff only
-    try:
-        from . import fe
-        return fe.tip(problem, load, dx, nu=nu, plane=plane)
-    except (ImportError, KeyError, FileNotFoundError):
-        return nan
+# -- closed-form cross-checks of the gravity problem (not from the FE) ---------
+
+def _plane_constants(E: float, nu: float, plane: str) -> tuple[float, float]:
+    """(E', nu') that turn the plane-stress formulas into plane strain."""
+    if plane == "stress":
+        return E, nu
+    if plane == "strain":
+        return E / (1.0 - nu * nu), nu / (1.0 - nu)
+    raise ValueError(f"plane must be 'stress' or 'strain', not {plane!r}")
 
 
-def continuum_dv(load: float, dx: float, stress: str, variant: str = "linear/fixed",
-                 nu: float = 0.0, plane: str = "stress") -> float:
-    """Tip dv of the continuum the particle beam tends to as dx -> 0.  A load
-    on the last column acts at L - dx/2: Reissner's shear beam loaded there
-    (nu = 0 only).  A face traction acts at x = L: the finite-element
-    solution of the 2D continuum, nan if it is not tabulated."""
-    where = VARIANTS[variant][1]["load"]
-    if where == "column":
-        if nu != 0.0:
-            return math.nan
-        beam = theory.Beam()
-        return theory.shear_beam_tip(beam, load, a=load_point(beam.L, dx, where), model=stress)[1]
-    return continuum_tip("beam", load, dx, nu, plane, stress)["dv"]
+def gravity_beam_tip(problem: Problem | str, gy: float, nu: float = 0.0,
+                     plane: str = "stress", kappa: float = 5.0 / 6.0) -> float:
+    """Tip deflection u_y (m; negative = down) of a Timoshenko beam (linear,
+    shear-flexible, clamped: w = 0 and the cross-section's rotation = 0 at
+    x = 0) under its own weight g = (0, -gy): the uniform load q = rho gy H t
+    gives
+
+        w(L) = q L^4 / (8 E' I) + q L^2 / (2 kappa G A),
+
+    I = t H^3/12, A = H t, G = E/(2(1 + nu)), E' = E (plane stress) or
+    E/(1 - nu^2) (plane strain), kappa = 5/6 (rectangle; Cowper's
+    10(1+nu)/(12+11nu) is the same at nu = 0).  The shear term is
+    4 E' I/(kappa G A L^2) = 2(1 + nu)(H/L)^2/(3 kappa) of the bending term
+    (0.8 % at nu = 0 for H/L = 0.1)."""
+    pr = problem_by_name(problem) if isinstance(problem, str) else problem
+    Ep, _ = _plane_constants(pr.E, nu, plane)
+    G = pr.E / (2.0 * (1.0 + nu))
+    q = pr.rho * gy * pr.H * pr.t
+    inertia = pr.t * pr.H ** 3 / 12.0
+    return -(q * pr.L ** 4 / (8.0 * Ep * inertia) + q * pr.L ** 2 / (2.0 * kappa * G * pr.H * pr.t))
+
+
+def gravity_elasticity_axis(problem: Problem | str, gy: float, X, nu: float = 0.0,
+                            plane: str = "stress", clamp: str | None = None):
+    """u_y (m, y up) at the axis points (X, H/2) of the exact plane-elasticity
+    (linear) solution of the cantilever under its own weight g = (0, -gy):
+    the polynomial (Airy) solution with the Saint-Venant (resultant) end
+    conditions.  With x = L - X (from the free end), y from mid-height,
+    c = H/2, w = rho gy (body force (0, -w)):
+
+        sigma_xy = 3 w x (c^2 - y^2)/(2 c^2),   sigma_yy = w y (y^2 - c^2)/(2 c^2),
+        sigma_xx = 3 w x^2 y/(2 c^2) + w (3 y/5 - y^3/c^2),
+        E u_y(x, 0) = s(x) - A x + B,
+        s(x) = -w x^4/(8 c^2) + (w/2)(12/5 + 5 nu/2) x^2,
+
+    in plane stress (plane strain: E', nu' of _plane_constants).  A and B are
+    a rigid motion set by the clamp, which a polynomial cannot fully fix:
+    clamp = "axis" fixes the axis direction at the clamp's axis point
+    (d u_y/dx = 0: E A = 3(1+nu) w L - w L^3/(2c^2) - (3/5 + nu/2) w L),
+    clamp = "section" the vertical section element there (d u_x/dy = 0:
+    E A = -w L^3/(2c^2) - (3/5 + nu/2) w L; the axis then tilts by its shear
+    strain 3 w L/(2G)); u_y = 0 there sets B.  A fully clamped face lies
+    between the two (closer to "section").  clamp = None returns s(x)/E
+    only: the fully clamped beam's u_y up to a rigid motion (and effects
+    decaying exponentially, over ~H, from both ends), so a second
+    difference of it along the axis away from both ends is a clamp-free
+    check of the FE field."""
+    pr = problem_by_name(problem) if isinstance(problem, str) else problem
+    Ep, nup = _plane_constants(pr.E, nu, plane)
+    w = pr.rho * gy
+    c = 0.5 * pr.H
+    L = pr.L
+    x = L - np.asarray(X, float)
+
+    def shape(x):
+        return -w * x ** 4 / (8.0 * c * c) + 0.5 * w * (2.4 + 2.5 * nup) * x ** 2
+
+    if clamp is None:
+        return shape(x) / Ep
+    if clamp == "axis":
+        A = 3.0 * (1.0 + nup) * w * L - w * L ** 3 / (2.0 * c * c) - (0.6 + 0.5 * nup) * w * L
+    elif clamp == "section":
+        A = -w * L ** 3 / (2.0 * c * c) - (0.6 + 0.5 * nup) * w * L
+    else:
+        raise ValueError(f"clamp must be 'axis', 'section' or None, not {clamp!r}")
+    B = A * L - shape(L)
+    return (shape(x) - A * x + B) / Ep

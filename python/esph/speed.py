@@ -15,48 +15,12 @@ from pathlib import Path
 
 from . import plots
 from .paths import lmp_binary
-from .problems import (BEAM, BEAM3D, BEAM3D_TLSPH, BEAM_TLSPH, DEFAULT, PAPER, PROBLEMS,
-                       QUADRATIC_MIRROR, exact_tip)
+from .problems import PROBLEMS, exact_tip
 from .report import command_line, machine, print_head, write_rows
 from .runner import RunError, run_mpi
+from .schemes import BENCH_STYLES, METHODS, Method
 
 
-@dataclass(frozen=True)
-class Method:
-    label: str
-    variables: dict          # example variables that select scheme and route
-    model: str               # the continuum model whose exact answer it tends to
-    # the problem whose script runs each problem asked for (none: cannot run it)
-    runs: tuple = (("beam", "beam"), ("truss", "truss"))
-
-    def script_problem(self, problem: str) -> str | None:
-        return dict(self.runs).get(problem)
-
-
-# every scheme and route, by name
-METHODS = {
-    "cg-paper": Method("ICB min CG, paper (linear/fixed, pk1)",
-                       {"route": "min", "solver": "cg", "stress": "pk1", **PAPER}, "pk1"),
-    "cg-quadratic": Method("ICB min CG, quadratic/mirror, pk1",
-                           {"route": "min", "solver": "cg", "stress": "pk1", **QUADRATIC_MIRROR},
-                           "pk1"),
-    "dyn-paper": Method("ICB dyn, paper (linear/fixed, corotated)",
-                        {"route": "dyn", "stress": "corotated", **PAPER}, "corotated"),
-    "dyn-quadratic": Method("ICB dyn, quadratic/mirror, pk1",
-                            {"route": "dyn", "stress": "pk1", **QUADRATIC_MIRROR, "hg": 0.05},
-                            "pk1"),
-    "ccbwat": Method("CCBWAT dyn", {"scheme": "ccbwat", "route": "dyn"}, "hypo"),
-    "tlsph": Method("MACHDYN smd/tlsph dyn", {"route": "dyn"}, "pk1",
-                    runs=(("beam", "beam_tlsph"),)),
-    "newton-paper": Method("ICB min Newton, paper (linear/fixed, pk1)",
-                           {"route": "min", "solver": "newton", "stress": "pk1", **PAPER}, "pk1"),
-    "newton-quadratic": Method("ICB min Newton, quadratic/mirror, pk1",
-                               {"route": "min", "solver": "newton", "stress": "pk1",
-                                **QUADRATIC_MIRROR}, "pk1"),
-    "newton-default": Method("ICB min Newton, defaults (exact volumes, face traction, hg 0.2)",
-                             {"route": "min", "solver": "newton", "stress": "pk1", **DEFAULT},
-                             "pk1"),
-}
 CASES = {"beam-75": ("beam", -75.0), "beam-250": ("beam", -250.0), "truss3000": ("truss", 3000.0)}
 # a damped run has reached equilibrium when the force 2-norm is below this
 # share of the load
@@ -98,7 +62,7 @@ def run_one(problem: str, load: float, method: Method, dx: float, nprocs: int) -
                         float("nan"), float("nan"), exact, float("nan"), f"error: {err.error}",
                         cmd)
     v = out.variables
-    value = v["tip_" + PROBLEMS[problem].component]
+    value = v["tip_" + PROBLEMS[problem].compared]
     failed = v.get("failed", 0.0) > 0.5
     residual = v.get("residual", float("nan"))
     status = "failed" if failed else ("not at rest" if residual > AT_REST else "ok")
@@ -151,19 +115,6 @@ def speed_table(out: Path, dxs, truss_dxs, nprocs: int, cases, methods, progress
     return rows
 
 
-# throughput of the dynamics: the beam's script with each scheme, and MACHDYN's
-BENCH_STYLES = {
-    "icb": (BEAM, {"scheme": "icb"}),
-    "icb-pk1": (BEAM, {"scheme": "icb", "stress": "pk1"}),
-    "ccb": (BEAM, {"scheme": "ccb"}),
-    "ccbwat": (BEAM, {"scheme": "ccbwat"}),
-    "tlsph": (BEAM_TLSPH, {}),
-    # the 3d cantilever (0.2 x 0.02 x 0.02 m) with the defaults, and MACHDYN's
-    "icb3d": (BEAM3D, {}),
-    "tlsph3d": (BEAM3D_TLSPH, {}),
-}
-
-
 def throughput(dxs, styles, nprocs_list, steps: int) -> None:
     """Particle-steps per second of undamped fix nve dynamics of the beam
     (MACHDYN: its own integrator) for a fixed number of steps, by LAMMPS's
@@ -174,7 +125,8 @@ def throughput(dxs, styles, nprocs_list, steps: int) -> None:
                f"{'Mpart-steps/s':>14} {'us/part-step':>12}  command")
     for dx in dxs:
         for style in styles:
-            script, extra = BENCH_STYLES[style]
+            name, extra = BENCH_STYLES[style]
+            script = PROBLEMS[name].script
             for nprocs in nprocs_list:
                 variables = {**extra, "dx": dx, "route": "nve", "nsteps": steps, "Fy": -250}
                 out = run_mpi(script, variables, nprocs)

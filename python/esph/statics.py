@@ -9,21 +9,7 @@ from pathlib import Path
 from .problems import BEAM, exact_tip
 from .report import command_line, machine, write_rows
 from .runner import run_mpi
-
-# The static beam of the performance issue: Fy = -250 N, our accurate model
-STATICS_MODEL = {"Fy": -250.0, "stress": "pk1", "grad": "quadratic", "clamp": "mirror"}
-STATICS_ROUTES = {
-    "newton": {"route": "min", "solver": "newton"},
-    "newton-loose": {"route": "min", "solver": "newton", "ftol": 1.0e-3},
-    "cg": {"route": "min", "solver": "cg"},
-    # damped dynamics (its hourglass control, the default 0.2, it needs)
-    "dyn": {"route": "dyn"},
-    # the paper's corotated stress: Newton-Krylov, CG and damped dynamics,
-    # against the converged corotated answer
-    "newton-corotated": {"route": "min", "solver": "newton", "stress": "corotated"},
-    "cg-corotated": {"route": "min", "solver": "cg", "stress": "corotated"},
-    "dyn-corotated": {"route": "dyn", "stress": "corotated", "tdamp": 30.0},
-}
+from .schemes import STATICS_MODEL, STATICS_ROUTES
 
 
 @dataclass

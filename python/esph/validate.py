@@ -10,10 +10,11 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from . import plots, theory
-from .problems import (BEAM, BEAM3D, TRUSS, VARIANT_LABELS, VARIANTS, beam_exact, continuum_dv,
-                       continuum_tip, truss_exact)
+from .problems import BEAM, CATALOGUE, LAME_GEOMETRY, PROBLEMS, beam_exact, truss_exact
+from .reference import continuum_dv, continuum_tip
 from .report import order, print_head, write_rows
 from .runner import TipResult, run_tip
+from .schemes import VARIANT_LABELS, VARIANTS
 
 QUICK = {"beam_conv_loads": (-250.0,), "beam_conv_dx": (0.005, 0.004, 0.002, 0.001),
          "truss_loads": theory.PAPER_TRUSS_LOADS,
@@ -69,8 +70,7 @@ class Runner:
         if key not in self.cache:
             self.progress(f"[esph] {problem} {variant}, load {load:g} N, dx = {dx * 1e3:g} mm"
                           + "".join(f", {k} {v}" for k, v in sorted(extra.items())) + " ...")
-            script = {"beam": BEAM, "truss": TRUSS, "beam3d": BEAM3D}[problem]
-            load_var = "Fx" if problem == "truss" else "Fy"
+            script, load_var = PROBLEMS[problem].script, PROBLEMS[problem].load_var
             variables = {load_var: load, "dx": dx, "stress": self.stress, **VARIANTS[variant][1],
                          "route": self.route, "solver": self.solver, **extra}
             if self.hourglass is not None:
@@ -226,7 +226,8 @@ TABLE5_BEAM_DX = {False: (0.002, 0.001), True: (0.002, 0.001, 0.0005)}
 TABLE5_3D = {False: [("beam3d", -1500.0, 0.002), ("beam3d_short", -400.0, 0.0025)],
              True: [("beam3d", load, 0.002) for load in (-200.0, -1500.0, -5000.0)]
              + [("beam3d_short", load, 0.0025) for load in (-50.0, -400.0, -1250.0)]}
-SHORT = {"L": 0.1, "H": 0.01, "W": 0.01}
+# the example variables that make examples/beam3d the catalogue's beam3d_short
+SHORT = {k: getattr(CATALOGUE["beam3d_short"], k) for k in ("L", "H", "W")}
 PEER_LABEL = "uniform Q2 FE, nodes every dx: "
 
 
@@ -346,7 +347,6 @@ def table6(full: bool, nprocs: int = 1, stress: str = "pk1", progress=print) -> 
 
 # Table 7: particle layers through the wall of Lame's cylinder
 TABLE7_NW = {False: (10, 20), True: (10, 20, 40)}
-LAME_GEOMETRY = {"a": 0.05, "b": 0.1, "E": 20.0e9, "nu": 0.3, "p": 2.0e4}
 
 
 def lame_errors(nw: int, model: str, plane: str, nprocs: int = 1, support: str = "pins") -> dict:

@@ -35,30 +35,36 @@ def block(lmp, n=(8, 6, 1), dim=2, dx=1.0e-3, E=1.0e9, nu=0.3, rho=1000.0, extra
     """)
 
 
-def input_head(dim: int, boundary: str, lattice: str, region: str, extra: str = "") -> str:
-    """Input lines up to create_box for atom_style sph/elastic: a si box
-    `region block <region>` on `lattice <lattice>`; `extra` lines go before
-    the lattice."""
+def input_head(dim: int, boundary: str, lattice: str, region: str, extra: str = "",
+               types: int = 1, map_array: bool = True, units: str = "si") -> str:
+    """Input lines up to create_box (with `types` atom types) for atom_style
+    sph/elastic: a box `region block <region>` on `lattice <lattice>` in
+    `units` (si); `atom_modify map array` unless map_array is false, and
+    `extra` lines before the lattice."""
+    atom_map = "atom_modify map array\n" if map_array else ""
     return f"""
-units si
+units {units}
 dimension {dim}
 boundary {boundary}
 atom_style sph/elastic
-atom_modify map array
-{extra}lattice {lattice}
+{atom_map}{extra}lattice {lattice}
 region box block {region}
-create_box 1 box
+create_box {types} box
 """
 
 
-def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None = None) -> str:
+def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None = None,
+               extra: str = "", types: int = 1, map_array: bool = True, units: str = "si") -> str:
     """Input lines up to create_box of a dim-d si box 'xlo xhi ylo yhi [zlo
     zhi]' (lattice units) for atom_style sph/elastic, on a square (cubic)
-    lattice of spacing dx whose sites are the cell centres."""
+    lattice of spacing dx whose sites are the cell centres (boundary s s p
+    in 2d, s s s in 3d unless given; extra, types, map_array, units:
+    input_head's)."""
     lattice, origin = ("sq", "0.5 0.5 0.0") if dim == 2 else ("sc", "0.5 0.5 0.5")
     boundary = boundary or ("s s p" if dim == 2 else "s s s")
     thin = " -0.5 0.5" if dim == 2 else ""
-    return input_head(dim, boundary, f"{lattice} {dx} origin {origin}", box + thin)
+    return input_head(dim, boundary, f"{lattice} {dx} origin {origin}", box + thin, extra,
+                      types, map_array, units)
 
 
 def lattice_2d_script(box: str, dx: float = 1.0e-3) -> str:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import make_lammps, per_atom, restart_round_trip
+from conftest import make_lammps, per_atom, restart_round_trip, sph_header
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -16,19 +16,10 @@ E, NU = 1.0e9, 0.3
 
 def ccb_block(n=(10, 8), extra="", plane="strain", dim=2, nz=1, fixes=True):
     lmp = make_lammps()
-    z = "-0.5 0.5" if dim == 2 else f"0 {nz}"
+    box = f"0 {n[0]} 0 {n[1]}" + ("" if dim == 2 else f" 0 {nz}")
     vol = DX ** 2 * T if dim == 2 else DX ** 3
     plane_kw = f"plane {plane} thickness {T}" if dim == 2 else ""
-    lmp.commands_string(f"""
-        units si
-        dimension {dim}
-        boundary s s {'p' if dim == 2 else 's'}
-        atom_style sph/elastic
-        atom_modify map array
-        comm_modify vel yes
-        lattice {'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
-        region box block 0 {n[0]} 0 {n[1]} {z}
-        create_box 1 box
+    lmp.commands_string(sph_header(box, DX, dim, extra="comm_modify vel yes\n") + f"""
         create_atoms 1 box
         set group all volume {vol}
         set group all mass {RHO0 * vol}

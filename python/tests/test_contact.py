@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import by_id, make_lammps, restart_round_trip
+from conftest import by_id, make_lammps, restart_round_trip, sph_header
 from esph.problems import RINGS
 from esph.runner import run_mpi, run_script
 
@@ -26,15 +26,8 @@ def two_blocks(lmp, shift=(-0.3, 0.37), fix="fix contact all sph/contact 0.001 t
     dx; both jiggled so that the pair distances are all different.  As one
     body (same_body), B's shift moves reference partners apart by up to
     0.24 dx before the partners are built, which the skin must cover."""
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        comm_modify vel yes
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block -1 10 -2 6 -0.5 0.5
-        create_box 2 box
+    head = sph_header("-1 10 -2 6", DX, extra="comm_modify vel yes\n", types=2, map_array=False)
+    lmp.commands_string(head + f"""
         region a block 0 4 0 3 INF INF
         region b block 4 8 0 3 INF INF
         create_atoms 1 region a

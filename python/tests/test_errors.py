@@ -5,19 +5,11 @@ import pytest
 
 import subprocess
 
-from conftest import block, make_lammps
+from conftest import block, make_lammps, sph_header
 from esph.paths import lmp_binary
 from esph.runner import mpirun_command
 
-BASE = """
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block 0 6 0 4 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
+BASE = sph_header("0 6 0 4", map_array=False) + """create_atoms 1 box
 set group all volume 1e-9
 set group all mass 1e-6
 set group all mol 1

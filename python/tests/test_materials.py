@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from conftest import apply_affine, block, make_lammps, per_atom
+from conftest import apply_affine, block, make_lammps, per_atom, sph_header
 from esph.problems import BEAM, BEAM3D, TRUSS
 from esph.runner import run_script
 from test_patch import VOIGT, rotation_matrix, svk_cauchy
@@ -316,15 +316,7 @@ def periodic_compression(ratio, law, n=8):
     either law)."""
     dx, t = 1.0e-3, 1.0e-3
     lmp = make_lammps()
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary p p p
-        atom_style sph/elastic
-        atom_modify map array
-        lattice sq {dx} origin 0.5 0.5 0.0
-        region box block 0 {n} 0 {n} -0.5 0.5
-        create_box 1 box
+    lmp.commands_string(sph_header(f"0 {n} 0 {n}", dx, boundary="p p p") + f"""
         create_atoms 1 box
         set group all mol 1
         set group all volume {dx * dx * t}
@@ -387,14 +379,7 @@ def test_bad_law_is_a_clear_error(command, words):
 @pytest.mark.slow
 def test_ccb_refuses_a_hyperelastic_law(tmp_path):
     from conftest import run_lmp
-    script = f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        lattice sq 0.001 origin 0.5 0.5 0.0
-        region box block 0 4 0 4 -0.5 0.5
-        create_box 1 box
+    script = sph_header("0 4 0 4", map_array=False) + f"""
         create_atoms 1 box
         set group all volume 1e-9
         set group all mass 1e-6

@@ -17,18 +17,9 @@ import re
 
 import pytest
 
-from conftest import run_lmp
+from conftest import run_lmp, sph_header
 
-BLOCK = """
-units si
-dimension 3
-boundary s s s
-atom_style sph/elastic
-atom_modify map array
-lattice sc 0.001 origin 0.5 0.5 0.5
-region box block 0 5 0 5 0 5
-create_box 1 box
-create_atoms 1 box
+BLOCK = sph_header("0 5 0 5 0 5", dim=3) + """create_atoms 1 box
 set group all volume 1e-9
 set group all mass 1e-6
 set group all mol 1

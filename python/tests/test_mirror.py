@@ -19,14 +19,7 @@ E_MOD = 1.0e9
 
 def mirror_bar_commands(nx=12, ny=4, depth=3, pair="stress pk1", nu=0.0):
     """A bar of nx x ny particles at x > 0 and `depth` mirror columns at x < 0."""
-    return f"""
-        units si
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block -{depth} {nx} 0 {ny} -0.5 0.5
-        create_box 1 box
+    return sph_header(f"-{depth} {nx} 0 {ny}", DX, map_array=False) + f"""
         create_atoms 1 box
         set group all volume {DX * DX * T}
         set group all mass {1000 * DX * DX * T}
@@ -121,17 +114,8 @@ def test_forces_are_minus_the_gradient_of_the_body_energy(gradient, hourglass):
     assert checked == 2 * 3 * 4
 
 
-MPI_SCRIPT = """
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-processors ${np} 1 1
-comm_modify cutoff ${cut}
-lattice sq 0.001 origin 0.5 0.5 0.0
-region box block -3 12 0 4 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
+MPI_SCRIPT = sph_header("-3 12 0 4", extra="processors ${np} 1 1\ncomm_modify cutoff ${cut}\n",
+                        map_array=False) + """create_atoms 1 box
 set group all volume 1e-9
 set group all mass 1e-6
 set group all mol 1

@@ -15,6 +15,7 @@ from esph import problems
 from esph.paths import lmp_binary
 from esph.problems import BEAM, BEAM3D, TRUSS
 from esph.runner import clean_environment, run_mpi, run_script
+from conftest import input_head
 from test_errors import BASE, ICB
 
 LOAD = -250.0
@@ -229,16 +230,7 @@ def test_petsc_multigrid_on_the_compact_matrix_takes_few_cg_iterations():
     assert max(counts) < 600
 
 
-HEX_STRIP = """
-units si
-dimension 2
-boundary s s p
-atom_style sph/elastic
-atom_modify map array
-lattice hex 0.001
-region box block 0 20 0 3 -0.5 0.5
-create_box 1 box
-create_atoms 1 box
+HEX_STRIP = input_head(2, "s s p", "hex 0.001", "0 20 0 3 -0.5 0.5") + """create_atoms 1 box
 set group all volume 8.66e-10
 set group all mass 8.66e-7
 set group all mol 1

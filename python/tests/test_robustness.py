@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 
-from conftest import apply_affine, by_id, make_lammps, run_lmp
+from conftest import apply_affine, by_id, input_head, make_lammps, run_lmp, sph_header
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -26,19 +26,10 @@ def block_script(nx=12, ny=4, nz=1, dim=2, units="si", boundary=None, pair="sph/
     vol = dx ** 2 * t if dim == 2 else dx ** 3
     volume_cmd = "" if volume == "unset" else f"set group all volume {vol}"
     mass_cmd = "" if mass == "unset" else f"set group all mass {rho * vol}"
-    zlo_hi = "-0.5 0.5" if dim == 2 else f"0 {nz}"
+    box = f"0 {nx} 0 {ny}" + ("" if dim == 2 else f" 0 {nz}")
     thickness = f" thickness {t}" if pair == "sph/ccb" and dim == 2 else ""
-    return f"""
-units {units}
-dimension {dim}
-boundary {boundary}
-atom_style sph/elastic
-atom_modify map array
-comm_modify vel yes
-lattice {'sq' if dim == 2 else 'sc'} {dx} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
-region box block 0 {nx} 0 {ny} {zlo_hi}
-create_box 1 box
-create_atoms 1 box
+    head = sph_header(box, dx, dim, boundary, extra="comm_modify vel yes\n", units=units)
+    return head + f"""create_atoms 1 box
 {volume_cmd}
 {mass_cmd}
 set group all mol 1
@@ -266,14 +257,7 @@ def strain_energy(units, length, pressure):
     length unit is `length` m and pressure unit `pressure` Pa."""
     dx = DX / length
     lmp = make_lammps()
-    lmp.commands_string(f"""
-        units {units}
-        dimension 2
-        boundary s s p
-        atom_style sph/elastic
-        lattice sq {dx} origin 0.5 0.5 0.0
-        region box block 0 8 0 4 -0.5 0.5
-        create_box 1 box
+    lmp.commands_string(sph_header("0 8 0 4", dx, map_array=False, units=units) + f"""
         create_atoms 1 box
         set group all volume {dx * dx * T / length}
         set group all mass 1e-6
@@ -298,8 +282,8 @@ def test_cgs_gives_the_si_energy_in_erg():
 @pytest.mark.parametrize("units", ["metal", "real", "electron"])
 def test_units_with_conversion_factors_are_refused(units):
     lmp = make_lammps()
-    lmp.commands_string(f"units {units}\ndimension 2\nboundary s s p\natom_style sph/elastic\n"
-                        "lattice sq 1.0\nregion box block 0 6 0 4 -0.5 0.5\ncreate_box 1 box\n"
+    lmp.commands_string(input_head(2, "s s p", "sq 1.0", "0 6 0 4 -0.5 0.5", map_array=False,
+                                   units=units) +
                         "create_atoms 1 box\nset group all volume 1.0\nset group all mass 1.0\n"
                         "set group all mol 1\npair_style sph/icb 1.2 stress pk1\n"
                         "pair_coeff * * 1e4 0.3")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from conftest import apply_affine, lattice_2d_script, make_lammps
+from conftest import apply_affine, lattice_2d_script, make_lammps, sph_header
 
 DX = 1.0e-3
 T = 1.0e-3
@@ -36,16 +36,8 @@ def pk1(F, dim, plane="stress"):
 
 
 def block(lmp, n, dim, gradient="quadratic", volumes=True):
-    zr = "-0.5 0.5" if dim == 2 else f"0 {n[2]}"
-    lmp.commands_string(f"""
-        units si
-        dimension {dim}
-        boundary {'s s p' if dim == 2 else 's s s'}
-        atom_style sph/elastic
-        atom_modify map array
-        lattice {'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
-        region box block 0 {n[0]} 0 {n[1]} {zr}
-        create_box 1 box
+    box = f"0 {n[0]} 0 {n[1]}" + ("" if dim == 2 else f" 0 {n[2]}")
+    lmp.commands_string(sph_header(box, DX, dim) + f"""
         create_atoms 1 box
         set group all mol 1
         set group all volume {DX ** dim * (T if dim == 2 else 1.0)}

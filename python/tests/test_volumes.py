@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import make_lammps
+from conftest import input_head, make_lammps, sph_header
 
 DX = 1.0e-3
 T = 2.0e-3          # 2d thickness
@@ -55,15 +55,10 @@ def lattice_body(dim, keep, nbox, volume_args="", group="all"):
     keep(i, j, k) is true; volumes by set_sph_volumes."""
     lmp = make_lammps()
     zrange = "-0.5 0.5" if dim == 2 else f"0 {nbox[2]}"
-    lmp.commands_string(f"""
-        units si
-        dimension {dim}
-        boundary f f {'p' if dim == 2 else 'f'}
-        atom_style sph/elastic
-        lattice {'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}
-        region box block 0 {nbox[0]} 0 {nbox[1]} {zrange} units lattice
-        create_box 1 box
-    """)
+    lattice = f"{'sq' if dim == 2 else 'sc'} {DX} origin 0.5 0.5 {0.0 if dim == 2 else 0.5}"
+    lmp.commands_string(input_head(dim, f"f f {'p' if dim == 2 else 'f'}", lattice,
+                                   f"0 {nbox[0]} 0 {nbox[1]} {zrange} units lattice",
+                                   map_array=False))
     cells = []
     for idx in itertools.product(*(range(nbox[a]) for a in range(dim))):
         if keep(*idx):
@@ -84,14 +79,7 @@ def lattice_body(dim, keep, nbox, volume_args="", group="all"):
 def filled_block(nx, ny, mol_setup="set group all mol 1"):
     """A 2d block of nx x ny particles on the cell centres, volumes unset."""
     lmp = make_lammps()
-    lmp.commands_string(f"""
-        units si
-        dimension 2
-        boundary f f p
-        atom_style sph/elastic
-        lattice sq {DX} origin 0.5 0.5 0.0
-        region box block 0 {nx} 0 {ny} -0.5 0.5
-        create_box 1 box
+    lmp.commands_string(sph_header(f"0 {nx} 0 {ny}", DX, boundary="f f p", map_array=False) + f"""
         create_atoms 1 box
         {mol_setup}
         set group all volume {DX * DX * T}
