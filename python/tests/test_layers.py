@@ -22,7 +22,7 @@ LAYERS = (
     ("fe", "fe.meshes", "fe.solver", "fe.tables", "runner"),
     ("reference", "beam", "validate", "speed", "matrix", "statics", "bench3d", "rings",
      "figures", "spheres3d"),
-    ("cli", "__main__", "fe.__main__"),
+    ("cli", "__main__", "fe.__main__", "results_page"),
 )
 RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
 
