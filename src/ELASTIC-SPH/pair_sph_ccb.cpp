@@ -407,6 +407,7 @@ void PairSPHCCB::force_pass(int i)
   const int jnum = list->numneigh[i];
   const double cutsq_kernel = kernel.support() * kernel.support();
   const bool viscous = (visc_alpha > 0.0 || visc_beta > 0.0);
+  const double h = kernel.h;
   const double ci = std::sqrt(moduli[type[i]].pwave * vfrac[i] / rmass[i]);
   const double *si = sigma_rho2[i];
   const double *ai = artstress[i];

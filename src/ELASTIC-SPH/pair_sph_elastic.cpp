@@ -74,7 +74,6 @@ PairSPHElastic::PairSPHElastic(LAMMPS *lmp) :
   manybody_flag = 1;
   no_virial_fdotr_compute = 1;
   centroidstressflag = CENTROID_NOTAVAIL;
-  h = 0.0;
   plane = PLANE_STRAIN;
   plane_given = 0;
   kinematics = SPHElastic::Kinematics::SOLID;
@@ -131,7 +130,7 @@ void PairSPHElastic::allocate()
 void PairSPHElastic::settings(int narg, char **arg)
 {
   if (narg < 1) utils::missing_cmd_args(FLERR, std::string("pair_style ") + style_name(), error);
-  h = utils::numeric(FLERR, arg[0], false, lmp);
+  const double h = utils::numeric(FLERR, arg[0], false, lmp);
   if (h <= 0.0)
     error->all(FLERR, Error::ARGZERO, "Pair style {} smoothing length h must be > 0, got {}",
                style_name(), h);
@@ -297,7 +296,7 @@ void PairSPHElastic::init_style()
                "Pair style {} keywords plane and thickness are only valid for 2d simulations",
                style_name());
   // settings() may have run before the dimension was final
-  kernel = SPHElastic::Kernel(kernel.type, h, domain->dimension);
+  kernel = SPHElastic::Kernel(kernel.type, kernel.h, domain->dimension);
   if (domain->dimension == 3)
     kinematics = SPHElastic::Kinematics::SOLID;
   else
@@ -513,7 +512,7 @@ void PairSPHElastic::compute_stable_dt()
     cmax = MAX(cmax, std::sqrt(materials[type[i]]->pwave_modulus() * vfrac[i] / rmass[i]));
   double all;
   MPI_Allreduce(&cmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
-  dt_unit = (all > 0.0) ? h / all : 0.0;
+  dt_unit = (all > 0.0) ? kernel.h / all : 0.0;
   // compute pair sums pvector over processors: only one may contribute
   pvector[0] = (comm->me == 0) ? dt_unit : 0.0;
 }
@@ -581,7 +580,7 @@ void PairSPHElastic::read_restart(FILE *fp)
 void PairSPHElastic::write_restart_settings(FILE *fp)
 {
   const int ktype = kernel.type;
-  fwrite(&h, sizeof(double), 1, fp);
+  fwrite(&kernel.h, sizeof(double), 1, fp);
   fwrite(&ktype, sizeof(int), 1, fp);
   fwrite(&plane, sizeof(int), 1, fp);
   fwrite(&plane_given, sizeof(int), 1, fp);
@@ -593,6 +592,7 @@ void PairSPHElastic::write_restart_settings(FILE *fp)
 void PairSPHElastic::read_restart_settings(FILE *fp)
 {
   int ktype = 0;
+  double h = 0.0;
   if (comm->me == 0) {
     utils::sfread(FLERR, &h, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &ktype, sizeof(int), 1, fp, nullptr, error);
@@ -636,7 +636,7 @@ void PairSPHElastic::write_data_all(FILE *fp)
 void *PairSPHElastic::extract(const char *str, int &dim)
 {
   dim = 0;
-  if (strcmp(str, "h") == 0) return (void *) &h;
+  if (strcmp(str, "h") == 0) return (void *) &kernel.h;
   if (strcmp(str, "thickness") == 0) return (void *) &thickness;
   dim = 1;
   if (strcmp(str, "E") == 0) return (void *) youngs;

@@ -70,8 +70,7 @@ class PairSPHElastic : public Pair {
   std::string instability_advice() const;
 
  protected:
-  double h;
-  SPHElastic::Kernel kernel;
+  SPHElastic::Kernel kernel;    // h and the kernel asked for (the partners hold the built one)
   int plane;
   int plane_given;
   double thickness;      // 2d out-of-plane thickness (0 = not given)
