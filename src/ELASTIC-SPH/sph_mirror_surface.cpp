@@ -106,6 +106,18 @@ int MirrorSurface::parse(LAMMPS *lmp, const std::string &what, int iarg, int nar
       if (b != cyl_axis) point[b] = number(k++);
     radius = number(4);
     if (!(radius > 0.0)) error->all(FLERR, iarg + 4, "{}: the cylinder's radius must be > 0", what);
+    // optional 'along x|y|z': the image along lines parallel to that axis
+    // (a body laid out in rows along it, clamped on the cylinder), not
+    // along the normal
+    if (iarg + 5 < narg && strcmp(arg[iarg + 5], "along") == 0) {
+      need(6, "x|y|z c1 c2 R along x|y|z");
+      oblique = axis_of(arg[iarg + 6]);
+      if (oblique < 0 || oblique == cyl_axis)
+        error->all(FLERR, iarg + 6,
+                   "{}: 'along' takes an axis normal to the cylinder's axis, got {}", what,
+                   arg[iarg + 6]);
+      return 7;
+    }
     return 5;
   }
   if (strcmp(arg[iarg], "sphere") == 0) {
@@ -164,6 +176,19 @@ void MirrorSurface::normal(const double *X, double *n) const
 
 void MirrorSurface::reflect(const double *X, double *image) const
 {
+  if (oblique >= 0) {
+    // radius r -> 2R - r at the same coordinates other than 'oblique':
+    // d_o' = sign(d_o) sqrt(r'^2 - (r^2 - d_o^2))
+    double d[3];
+    radial(X, d);
+    const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const double rp = 2.0 * radius - std::sqrt(r2);
+    const double rest = r2 - d[oblique] * d[oblique];
+    const double along = std::sqrt(std::max(0.0, rp * rp - rest));
+    for (int b = 0; b < 3; b++) image[b] = X[b];
+    image[oblique] = point[oblique] + std::copysign(along, d[oblique]);
+    return;
+  }
   const double phi = signed_distance(X);
   double n[3];
   normal(X, n);
@@ -179,6 +204,14 @@ double MirrorSurface::volume_ratio(const double *X) const
 {
   if (shape == PLANE) return 1.0;
   const double r = signed_distance(X) + radius;
+  if (oblique >= 0) {
+    // in (r, the other coordinates) the area element is r/|d_o| dr d(rest)
+    double image[3], d[3], dp[3];
+    reflect(X, image);
+    radial(X, d);
+    radial(image, dp);
+    return (2.0 * radius - r) * std::fabs(d[oblique]) / (r * std::fabs(dp[oblique]));
+  }
   const double stretch = (2.0 * radius - r) / r;
   return (shape == CYLINDER) ? stretch : stretch * stretch;
 }
@@ -210,9 +243,10 @@ std::string MirrorSurface::describe() const
                        point[0], point[1], point[2], unit[0], unit[1], unit[2]);
   if (shape == CYLINDER) {
     const int b = (cyl_axis + 1) % 3, c = (cyl_axis + 2) % 3;
-    return fmt::format("the cylinder about {} through ({}, {}) = ({}, {}) of radius {}",
+    return fmt::format("the cylinder about {} through ({}, {}) = ({}, {}) of radius {}{}",
                        "xyz"[cyl_axis], "xyz"[std::min(b, c)], "xyz"[std::max(b, c)],
-                       point[std::min(b, c)], point[std::max(b, c)], radius);
+                       point[std::min(b, c)], point[std::max(b, c)], radius,
+                       oblique >= 0 ? fmt::format(" (images along {})", "xyz"[oblique]) : "");
   }
   return fmt::format("the sphere about ({}, {}, {}) of radius {}", point[0], point[1], point[2],
                      radius);

@@ -36,6 +36,13 @@ namespace SPHElastic {
      for a cylinder or sphere.  The map is an involution, and its Jacobian
      is the identity on the surface, so a field continued through it by
      u(X') = -u(X) stays continuous with its first derivatives.
+       cylinder x|y|z c1 c2 R along x|y|z
+     (experimental, a clamp only) takes the image along the line parallel
+     to the 'along' axis instead, at radius 2 R - r: the involution
+     (s, rest) -> (-s, rest) of a body laid out on rows along that axis
+     whose layers are the circles r = R + s; its Jacobian maps the normal to
+     minus itself on the surface, which is what keeps the odd continuation
+     continuous with its first derivatives.
   ------------------------------------------------------------------------- */
 
   class MirrorSurface {
@@ -66,6 +73,8 @@ namespace SPHElastic {
     // the axes the surface is not invariant along (a periodic one of them
     // would meet the body's own image rather than the surface)
     bool bounded_along(int a) const;
+    // the axis images are taken along ('cylinder ... along a'), or -1
+    int oblique_axis() const { return oblique; }
     // how to name it in messages, e.g. "the plane x = 0.5"
     std::string describe() const;
 
@@ -77,6 +86,7 @@ namespace SPHElastic {
     double unit[3] = {0.0, 0.0, 1.0};     // a plane's unit normal
     double radius = 0.0;
     double offset = 0.0;
+    int oblique = -1;                     // 'along' axis of a cylinder, or -1
 
     // X - centre without the component along a cylinder's axis
     void radial(const double *X, double *d) const;
