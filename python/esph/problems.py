@@ -28,6 +28,7 @@ BEAM3D = EXAMPLES / "beam3d" / "in.beam3d"
 BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
 LAME = EXAMPLES / "lame" / "in.lame"
+BEAM_CYLINDER = EXAMPLES / "beam_cylinder" / "in.beam_cylinder"
 
 # Lame's thick-walled cylinder of examples/lame: radii a < b (m), E (Pa), nu
 # and the pressure p (Pa)

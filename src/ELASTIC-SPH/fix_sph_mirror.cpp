@@ -120,8 +120,9 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
   }
   const int axis = surface.axis();
   if (slip && surface.oblique_axis() >= 0)
-    error->all(FLERR, "Fix sph/mirror: 'along' (images along an axis) is for a clamp; slip yes "
-                      "needs the images on the normal");
+    error->all(FLERR,
+               "Fix sph/mirror: 'along' (images along an axis) is for a clamp; slip yes "
+               "needs the images on the normal");
   if (slip && axis < 0)
     for (int a = 0; a < 3; a++)
       if (disp.is_variable(a) || disp.value[a] != 0.0)

@@ -39,9 +39,11 @@
 #include "error.h"
 #include "fix_sph_partners.h"
 #include "group.h"
+#include "input.h"
 #include "math_const.h"
 #include "modify.h"
 #include "sph_elastic_mpi.h"
+#include "variable.h"
 
 #include <algorithm>
 #include <climits>
@@ -92,7 +94,7 @@ size_t SetSPHVolumes::SiteHash::operator()(const Site &s) const
 /* ----------------------------------------------------------------------
    set_sph_volumes group-ID lattice dx [keyword value ...]
    set_sph_volumes group-ID polar dr cx cy [keyword value ...]
-   keywords: thickness t, density rho, correction surface|none
+   keywords: thickness t, density rho, correction surface|none, jacobian v_J
 ------------------------------------------------------------------------- */
 
 void SetSPHVolumes::command(int narg, char **arg)
@@ -132,6 +134,7 @@ void SetSPHVolumes::command(int narg, char **arg)
     polar_weights(volume);
   else
     lattice_weights(volume);
+  if (!jacobian.empty()) map_weights(volume);
   assign(volume, arg[0]);
 }
 
@@ -142,6 +145,7 @@ void SetSPHVolumes::parse_keywords(int iarg, int narg, char **arg)
   thickness = 0.0;
   density = 0.0;
   correct = true;
+  jacobian.clear();
   while (iarg < narg) {
     if (iarg + 1 >= narg)
       utils::missing_cmd_args(FLERR, fmt::format("set_sph_volumes {}", arg[iarg]), error);
@@ -161,6 +165,12 @@ void SetSPHVolumes::parse_keywords(int iarg, int narg, char **arg)
       else
         error->all(FLERR, iarg + 1, "Unknown set_sph_volumes correction {}: use surface or none",
                    arg[iarg + 1]);
+    } else if (strcmp(arg[iarg], "jacobian") == 0) {
+      if (!utils::strmatch(arg[iarg + 1], "^v_"))
+        error->all(FLERR, iarg + 1,
+                   "Set_sph_volumes jacobian takes an atom-style variable v_name, got {}",
+                   arg[iarg + 1]);
+      jacobian = arg[iarg + 1] + 2;
     } else {
       error->all(FLERR, iarg, "Unknown set_sph_volumes keyword {}", arg[iarg]);
     }
@@ -540,6 +550,38 @@ double SetSPHVolumes::arc_sites_per_circle(std::vector<double> &theta, double r)
                "volumes need each circle evenly filled, or cut into one arc by symmetry planes",
                n, r);
   return std::round(sites);
+}
+
+/* ----------------------------------------------------------------------
+   a body laid out on a lattice in coordinates (s, y) and mapped smoothly
+   to its shape: each lattice weight times the map's Jacobian at the
+   atom, evaluated where the atoms still are (in (s, y), before they are
+   moved).  The sum is then the corrected lattice rule of the integrand
+   times the Jacobian, exact for quadratics in (s, y) as the lattice's
+------------------------------------------------------------------------- */
+
+void SetSPHVolumes::map_weights(std::vector<double> &volume)
+{
+  const int ivar = input->variable->find(jacobian.c_str());
+  if (ivar < 0)
+    error->all(FLERR, Error::NOLASTLINE, "Set_sph_volumes jacobian: no variable {}", jacobian);
+  if (!input->variable->atomstyle(ivar))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes jacobian: variable {} is not atom-style (use 'variable {} atom "
+               "<formula in x, y, z>')",
+               jacobian, jacobian);
+  const int nlocal = atom->nlocal;
+  std::vector<double> factor(nlocal, 0.0);
+  input->variable->compute_atom(ivar, igroup, factor.data(), 1, 0);
+  for (int i = 0; i < nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    if (!(factor[i] > 0.0) || !std::isfinite(factor[i]))
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Set_sph_volumes jacobian must be positive (a map's Jacobian): variable {} is {} "
+                 "at atom {}",
+                 jacobian, factor[i], atom->tag[i]);
+    volume[i] *= factor[i];
+  }
 }
 
 /* ----------------------------------------------------------------------

@@ -23,6 +23,7 @@ CommandStyle(set_sph_volumes,SetSPHVolumes);
 #include "command.h"
 
 #include <array>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -50,11 +51,12 @@ class SetSPHVolumes : public Command {
   int igroup;
   int groupbit;
   int dim;
-  double spacing;      // lattice spacing (lattice) or layer spacing (polar)
-  double thickness;    // 2d out-of-plane thickness
-  double density;      // mass = density * volume if > 0, else keep m/V
-  bool correct;        // apply the surface correction
-  double centre[2];    // polar: centre of the circles (in 3d, the z axis through it)
+  double spacing;          // lattice spacing (lattice) or layer spacing (polar)
+  double thickness;        // 2d out-of-plane thickness
+  double density;          // mass = density * volume if > 0, else keep m/V
+  bool correct;            // apply the surface correction
+  std::string jacobian;    // atom-style variable the volumes are multiplied by ("" = none)
+  double centre[2];        // polar: centre of the circles (in 3d, the z axis through it)
 
   // lattice mode: per owned group atom, which sites at 1..3 spacings in
   // -x, +x, -y, +y, -z, +z exist (bit 3*(2*axis+side) + offset-1)
@@ -71,6 +73,7 @@ class SetSPHVolumes : public Command {
   std::vector<double> sites_per_circle(const std::vector<double> &, const std::vector<double> &,
                                        double, long long) const;
   double arc_sites_per_circle(std::vector<double> &, double) const;
+  void map_weights(std::vector<double> &volume);
   void assign(const std::vector<double> &, const char *);
   static void mark_neighbours(int, char *, void *);
 };

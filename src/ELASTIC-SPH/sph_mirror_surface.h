@@ -86,7 +86,7 @@ namespace SPHElastic {
     double unit[3] = {0.0, 0.0, 1.0};     // a plane's unit normal
     double radius = 0.0;
     double offset = 0.0;
-    int oblique = -1;                     // 'along' axis of a cylinder, or -1
+    int oblique = -1;    // 'along' axis of a cylinder, or -1
 
     // X - centre without the component along a cylinder's axis
     void radial(const double *X, double *d) const;
