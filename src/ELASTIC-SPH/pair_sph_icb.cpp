@@ -578,6 +578,23 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
   const double *const *const x = atom->x;
   const bool tally_global = eflag_global, tally_atom = eflag_atom;
   double energy_sum = 0.0;
+  // most steps tally no virial and no per-atom energy: forces only
+  if (!vflag_either && !tally_atom) {
+    double *const *const f = atom->f;
+    sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,
+                           [&](int i, int j, double kij, const double *d, bool both) {
+                             if (tally_global) {
+                               const double energy =
+                                   0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                               energy_sum += both ? 2.0 * energy : energy;
+                             }
+                             for (int a = 0; a < DIM; a++) f[i][a] += kij * d[a];
+                             if (both)
+                               for (int a = 0; a < DIM; a++) f[j][a] += -(kij * d[a]);
+                           });
+    eng_vdwl += energy_sum;
+    return;
+  }
   sweeps->hourglass<DIM>(
       atom->nlocal, hourglass, x, defgrad, qstress,
       [&](int i, int j, double kij, const double *d, bool both) {
