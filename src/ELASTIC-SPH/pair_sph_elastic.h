@@ -116,6 +116,19 @@ class PairSPHElastic : public Pair {
     if (vflag_either)
       ev_tally_xyz_full(i, 0.0, 0.0, fij[0], fij[1], fij[2], del[0], del[1], del[2]);
   }
+  // fij on owned atom i and, if both (j owned and the pair listed once), -fij
+  // on j, each with its virial share
+  void add_pair_forces(int i, int j, const double *fij, bool both)
+  {
+    const double *const *const x = atom->x;
+    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+    add_pair_force(i, fij, del);
+    if (both) {
+      const double fji[3] = {-fij[0], -fij[1], -fij[2]};
+      const double dji[3] = {-del[0], -del[1], -del[2]};
+      add_pair_force(j, fji, dji);
+    }
+  }
 };
 
 }    // namespace LAMMPS_NS

@@ -396,15 +396,8 @@ template <int DIM> void PairSPHICB::force_divergence()
     });
     return;
   }
-  const double *const *const x = atom->x;
   sweeps->divergence<DIM>(nlocal, qstress, 1.0, [&](int i, int j, const double *fij, bool both) {
-    const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-    add_pair_force(i, fij, del);
-    if (both) {
-      const double fji[3] = {-fij[0], -fij[1], -fij[2]};
-      const double dji[3] = {-del[0], -del[1], -del[2]};
-      add_pair_force(j, fji, dji);
-    }
+    add_pair_forces(i, j, fij, both);
   });
 }
 
@@ -595,24 +588,18 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
     eng_vdwl += energy_sum;
     return;
   }
-  sweeps->hourglass<DIM>(
-      atom->nlocal, hourglass, x, defgrad, qstress,
-      [&](int i, int j, double kij, const double *d, bool both) {
-        const double energy = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (tally_global) energy_sum += both ? 2.0 * energy : energy;
-        if (tally_atom) {
-          eatom[i] += energy;
-          if (both) eatom[j] += energy;
-        }
-        const double fij[3] = {kij * d[0], kij * d[1], kij * d[2]};
-        const double del[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-        add_pair_force(i, fij, del);
-        if (both) {
-          const double fji[3] = {-fij[0], -fij[1], -fij[2]};
-          const double dji[3] = {-del[0], -del[1], -del[2]};
-          add_pair_force(j, fji, dji);
-        }
-      });
+  sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,
+                         [&](int i, int j, double kij, const double *d, bool both) {
+                           const double energy =
+                               0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                           if (tally_global) energy_sum += both ? 2.0 * energy : energy;
+                           if (tally_atom) {
+                             eatom[i] += energy;
+                             if (both) eatom[j] += energy;
+                           }
+                           const double fij[3] = {kij * d[0], kij * d[1], kij * d[2]};
+                           add_pair_forces(i, j, fij, both);
+                         });
   eng_vdwl += energy_sum;
 }
 
