@@ -189,13 +189,17 @@ void FixSPHRotation::rotation(int i, const double F[3][3], double R[3][3])
 }
 
 /* ----------------------------------------------------------------------
-   2d: the polar rotation in closed form, theta = atan2(F21-F12, F11+F22)
+   2d: the polar rotation in closed form, (cos, sin) of the angle
+   theta = atan2(F21-F12, F11+F22) as that vector normalised, without
+   evaluating trigonometric functions (the identity if F has no rotational
+   part at all, F21 = F12 and F11 = -F22)
 ------------------------------------------------------------------------- */
 
 void FixSPHRotation::rotation_2d(const double F[3][3], double R[3][3])
 {
-  const double theta = std::atan2(F[1][0] - F[0][1], F[0][0] + F[1][1]);
-  const double c = std::cos(theta), s = std::sin(theta);
+  const double y = F[1][0] - F[0][1], x = F[0][0] + F[1][1];
+  const double norm = std::sqrt(x * x + y * y);
+  const double c = norm > 0.0 ? x / norm : 1.0, s = norm > 0.0 ? y / norm : 0.0;
   R[0][0] = c;
   R[0][1] = -s;
   R[0][2] = 0.0;
