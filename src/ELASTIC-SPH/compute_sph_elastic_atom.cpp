@@ -124,6 +124,7 @@ void ComputeSPHElasticAtom::compute_peratom()
 
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
+  pair->update_outputs();
   for (int i = 0; i < nlocal; i++) {
     double *out = output[i];
     if (!(mask[i] & groupbit)) {
@@ -203,29 +204,33 @@ void ComputeSPHElasticAtom::stretch_of(int i, double &stretch, double &broken, d
   const int n = partners->npartner[i];
   if (n == 0) return;
   find_adjacent_partners();
+  // squared distances throughout: one square root per atom, not one per partner
   const double support = pair->get_partners()->get_kernel().support();
+  const double support_sq = support * support;
   const double *const *const x = atom->x;
   const int *jl = pair->partner_indices(i);
-  auto distance = [&](int k) {    // -1 if partner k is not even a ghost here
+  auto distance_sq = [&](int k) {    // -1 if partner k is not even a ghost here
     const int j = jl ? jl[k] : partners->find_partner(i, k);
     if (j < 0) return -1.0;
     const double dx = x[j][0] - x[i][0], dy = x[j][1] - x[i][1], dz = x[j][2] - x[i][2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz);
+    return dx * dx + dy * dy + dz * dz;
   };
 
   int nbroken = 0;
   for (int k = 0; k < n; k++) {
-    const double r = distance(k);
-    if (r < 0.0) failed = 1.0;    // not even a ghost: certainly beyond the support
-    if (r < 0.0 || r > support) nbroken++;
+    const double rsq = distance_sq(k);
+    if (rsq < 0.0) failed = 1.0;    // not even a ghost: certainly beyond the support
+    if (rsq < 0.0 || rsq > support_sq) nbroken++;
   }
   broken = (double) nbroken / n;
 
+  double stretch_sq = 0.0;
   for (int a = adjacent_start[i]; a < adjacent_start[i + 1]; a++) {
-    const double r = distance(adjacent_k[a]);
-    if (r > support) failed = 1.0;
-    stretch = MAX(stretch, r / adjacent_r0[a]);
+    const double rsq = distance_sq(adjacent_k[a]);
+    if (rsq > support_sq) failed = 1.0;
+    stretch_sq = MAX(stretch_sq, rsq / (adjacent_r0[a] * adjacent_r0[a]));
   }
+  stretch = std::sqrt(stretch_sq);
 }
 
 /* ---------------------------------------------------------------------- */
