@@ -150,6 +150,7 @@ void ComputeSPHProbe::compute_array()
   const int *mask = atom->mask;
   const imageint *image = atom->image;
   const bool green = pair->has_green();
+  pair->update_outputs();
   const SPHElastic::Kernel &kernel = pair->get_partners()->get_kernel();
   const double to_kernel = kernel.support() / fit_radius;
 

@@ -52,9 +52,13 @@ class PairSPHElastic : public Pair {
   void *extract(const char *, int &) override;
   double memory_usage() override;
 
-  // per-particle output of owned atoms, valid after a force computation
+  // per-particle output of owned atoms of the last force computation, valid
+  // after update_outputs()
   double **cauchy;    // Cauchy stress, NSYMM columns
   double **green;     // Green-Lagrange strain, NSYMM columns
+  // fill cauchy and green if the style defers them until asked (sph/icb
+  // does: most steps nobody reads them); every reader calls this first
+  virtual void update_outputs() {}
   double stable_dt_unit() const { return dt_unit; }
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
   virtual bool has_green() const { return true; }    // is the green array filled

@@ -68,7 +68,8 @@ static const char cite_pair_sph_icb[] =
 
 PairSPHICB::PairSPHICB(LAMMPS *lmp) :
     PairSPHElastic(lmp), rotfix(nullptr), comm_array(nullptr), comm_width(9), defgrad(nullptr),
-    qstress(nullptr), jlocal(nullptr), sweeps(new SPHElastic::PairSweeps(memory)), ncompute(0)
+    qstress(nullptr), pk2(nullptr), outputs_of(-1), jlocal(nullptr),
+    sweeps(new SPHElastic::PairSweeps(memory)), ncompute(0)
 {
   if (lmp->citeme) lmp->citeme->add(cite_pair_sph_icb);
   set_style_defaults();
@@ -90,6 +91,7 @@ PairSPHICB::~PairSPHICB()
 {
   memory->destroy(defgrad);
   memory->destroy(qstress);
+  memory->destroy(pk2);
   memory->destroy(jlocal);
 }
 
@@ -274,8 +276,10 @@ void PairSPHICB::grow_work()
     nmax_work = atom->nmax;
     memory->destroy(defgrad);
     memory->destroy(qstress);
+    memory->destroy(pk2);
     memory->create(defgrad, nmax_work, 9, "pair:defgrad");
     memory->create(qstress, nmax_work, 9, "pair:qstress");
+    memory->create(pk2, nmax_work, NSYMM + 1, "pair:pk2");
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -389,11 +393,7 @@ template <int DIM> void PairSPHICB::force_divergence()
   const int nlocal = atom->nlocal;
   double *const *const f = atom->f;
   if (!vflag_either) {
-    sweeps->divergence<DIM>(nlocal, qstress, 1.0, [f](int i, int j, const double *fij, bool both) {
-      for (int a = 0; a < DIM; a++) f[i][a] += fij[a];
-      if (both)
-        for (int a = 0; a < DIM; a++) f[j][a] -= fij[a];
-    });
+    sweeps->divergence_into<DIM>(nlocal, qstress, 1.0, f);
     return;
   }
   sweeps->divergence<DIM>(nlocal, qstress, 1.0, [&](int i, int j, const double *fij, bool both) {
@@ -525,13 +525,48 @@ double PairSPHICB::stress_pass(int i)
       defgrad[i][3 * a + b] = F[a][b];
     }
 
-  // output: Cauchy stress (1/J) F S F^T and Green strain (F^T F - I)/2.  In
-  // plane stress J and E_zz take the out-of-plane stretch (none exists when
-  // St. Venant-Kirchhoff is stretched beyond its range: then J is in-plane)
+  // what the outputs need, should they be asked for (update_outputs)
+  double *out = pk2[i];
+  for (int v = 0; v < NSYMM; v++) out[v] = S[SPHElastic::VOIGT_ROW[v]][SPHElastic::VOIGT_COL[v]];
+  out[NSYMM] = stretch_zz;
+
+  return mirror ? 0.0 : vi * psi;
+}
+
+/* ----------------------------------------------------------------------
+   the Cauchy stress and Green strain of every owned atom at the last force
+   computation, from its F and S, once per computation
+------------------------------------------------------------------------- */
+
+void PairSPHICB::update_outputs()
+{
+  if (outputs_of == ncompute) return;
+  for (int i = 0; i < atom->nlocal; i++) output_of(i);
+  outputs_of = ncompute;
+}
+
+/* ----------------------------------------------------------------------
+   Cauchy stress (1/J) F S F^T and Green strain (F^T F - I)/2 of owned atom
+   i.  In plane stress J and E_zz take the out-of-plane stretch (none
+   exists when St. Venant-Kirchhoff is stretched beyond its range: then J
+   is in-plane)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::output_of(int i)
+{
+  double F[3][3], S[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
+  for (int v = 0; v < NSYMM; v++) {
+    const int a = SPHElastic::VOIGT_ROW[v], b = SPHElastic::VOIGT_COL[v];
+    S[a][b] = S[b][a] = pk2[i][v];
+  }
+  const double stretch_zz = pk2[i][NSYMM];
   double FS[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++)
       FS[a][b] = F[a][0] * S[0][b] + F[a][1] * S[1][b] + F[a][2] * S[2][b];
+  const double detF = SPHElastic::det3(F);
   const double J = (stretch_zz > 0.0) ? detF * stretch_zz : detF;
   for (int v = 0; v < NSYMM; v++) {
     const int a = SPHElastic::VOIGT_ROW[v], b = SPHElastic::VOIGT_COL[v];
@@ -539,8 +574,6 @@ double PairSPHICB::stress_pass(int i)
     green[i][v] = 0.5 * (F[0][a] * F[0][b] + F[1][a] * F[1][b] + F[2][a] * F[2][b] - (a == b));
   }
   if (stretch_zz != 1.0) green[i][2] = 0.5 * (stretch_zz * stretch_zz - 1.0);
-
-  return mirror ? 0.0 : vi * psi;
 }
 
 /* ----------------------------------------------------------------------
@@ -573,19 +606,8 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
   double energy_sum = 0.0;
   // most steps tally no virial and no per-atom energy: forces only
   if (!vflag_either && !tally_atom) {
-    double *const *const f = atom->f;
-    sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,
-                           [&](int i, int j, double kij, const double *d, bool both) {
-                             if (tally_global) {
-                               const double energy =
-                                   0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                               energy_sum += both ? 2.0 * energy : energy;
-                             }
-                             for (int a = 0; a < DIM; a++) f[i][a] += kij * d[a];
-                             if (both)
-                               for (int a = 0; a < DIM; a++) f[j][a] += -(kij * d[a]);
-                           });
-    eng_vdwl += energy_sum;
+    eng_vdwl += sweeps->hourglass_into<DIM>(atom->nlocal, hourglass, x, defgrad, qstress, atom->f,
+                                            tally_global);
     return;
   }
   sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,
@@ -665,6 +687,6 @@ void PairSPHICB::forward_comm_array(double **array, int width)
 
 double PairSPHICB::memory_usage()
 {
-  return PairSPHElastic::memory_usage() + (double) nmax_work * 18 * sizeof(double) +
+  return PairSPHElastic::memory_usage() + (double) nmax_work * (18 + NSYMM + 1) * sizeof(double) +
       (double) maxlocal * sizeof(int) + sweeps->memory_usage();
 }

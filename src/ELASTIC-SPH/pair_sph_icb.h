@@ -44,6 +44,7 @@ class PairSPHICB : public PairSPHElastic {
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
+  void update_outputs() override;
 
   // true if the forces are minus the gradient of the energy (stress pk1)
   bool has_energy() const { return measure == PK1; }
@@ -70,7 +71,11 @@ class PairSPHICB : public PairSPHElastic {
   class FixSPHRotation *rotfix;
   double **defgrad;    // per atom F (3x3 row-major), forwarded with hourglass control
   double **qstress;    // per atom Q = V P + dE_hg/dF (3x3 row-major), forwarded
-  int *jlocal;         // local index of each partner, since the last rebuild
+  // per owned atom S (2nd Piola-Kirchhoff, Voigt) and the out-of-plane
+  // stretch (1 unless plane stress), for the outputs when asked
+  double **pk2;
+  bigint outputs_of;    // the ncompute whose outputs cauchy and green hold
+  int *jlocal;          // local index of each partner, since the last rebuild
   // the pairs of partners and the sweeps over them, shared with the
   // linearisation
   std::unique_ptr<SPHElastic::PairSweeps> sweeps;
@@ -98,6 +103,7 @@ class PairSPHICB : public PairSPHElastic {
   bool list_pairs(const std::vector<int> &order, bool directed);
   template <int DIM> void force_divergence();
   double stress_pass(int i);
+  void output_of(int i);
   double bond_stiffness(int i, int j, int k) const;
   template <int DIM> void hourglass_pairs();
   void grow_work();

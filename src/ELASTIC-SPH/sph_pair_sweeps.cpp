@@ -47,4 +47,6 @@ void PairSweeps::reserve(bigint bound, bool hourglass)
     memory->create(pair_hg, 4 * (bigint) maxpairs_hg, "pair:pair_hg");
   }
   npairs = 0;
+  run_atom.clear();
+  run_first.clear();
 }

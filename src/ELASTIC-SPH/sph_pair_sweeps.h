@@ -16,6 +16,8 @@
 
 #include "lmptype.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 class Memory;
 namespace SPHElastic {
@@ -30,6 +32,10 @@ namespace SPHElastic {
      directed (each atom lists all its partners, for itself only).  Each
      sweep adds a pair's share to both of its atoms, which reads the
      gradients once instead of twice (the sweeps are memory bound in 3d).
+     The pairs of one atom i are consecutive (a run): the force sweeps keep
+     i's sums in registers over its run instead of adding to memory at
+     every pair, which made each pair wait for the previous pair's store.
+     Every sum still takes its terms in the same order: no result changes.
   ------------------------------------------------------------------------- */
 
   class PairSweeps {
@@ -45,12 +51,18 @@ namespace SPHElastic {
     void clear(bool directed_pairs)
     {
       npairs = 0;
+      run_atom.clear();
+      run_first.clear();
       directed = directed_pairs;
     }
     // a pair (i, j) with its kernel gradients g_ij and g_ji (dim each);
     // with hourglass control also k_ij / alpha and the reference offset X_ij
     void add(int i, int j, int dim, const double *gij, const double *gji)
     {
+      if (run_atom.empty() || run_atom.back() != i) {
+        run_atom.push_back(i);
+        run_first.push_back(npairs);
+      }
       pair_atoms[2 * npairs] = i;
       pair_atoms[2 * npairs + 1] = j;
       double *g = &pair_g[(bigint) npairs * 2 * dim];
@@ -72,7 +84,8 @@ namespace SPHElastic {
     double memory_usage() const
     {
       return (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double)) +
-          (double) maxpairs_hg * 4 * sizeof(double);
+          (double) maxpairs_hg * 4 * sizeof(double) +
+          (double) (run_atom.capacity() + run_first.capacity()) * sizeof(int);
     }
 
     /* ----------------------------------------------------------------------
@@ -83,20 +96,32 @@ namespace SPHElastic {
     template <int DIM>
     void gradients(int nlocal, const double *const *field, double *const *grad) const
     {
-      for (int p = 0; p < npairs; p++) {
-        const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-        const double *gij = &pair_g[(bigint) p * 2 * DIM];
-        const double *gji = gij + DIM;
-        double d[DIM];
-        for (int a = 0; a < DIM; a++) d[a] = field[j][a] - field[i][a];
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
         double *Gi = grad[i];
-        for (int a = 0; a < DIM; a++)
-          for (int b = 0; b < DIM; b++) Gi[3 * a + b] += d[a] * gij[b];
-        if (!directed && j < nlocal) {
-          double *Gj = grad[j];
-          for (int a = 0; a < DIM; a++)
-            for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
+        double sum[DIM][DIM], ui[DIM];
+        for (int a = 0; a < DIM; a++) {
+          ui[a] = field[i][a];
+          for (int b = 0; b < DIM; b++) sum[a][b] = Gi[3 * a + b];
         }
+        for (int p = run_first[r]; p < run_end(r); p++) {
+          const int j = pair_atoms[2 * p + 1];
+          double gij[DIM], gji[DIM], d[DIM];
+          load_gradients<DIM>(p, gij, gji);
+          const double *uj = field[j];
+          for (int a = 0; a < DIM; a++) d[a] = uj[a] - ui[a];
+          for (int a = 0; a < DIM; a++)
+            for (int b = 0; b < DIM; b++) sum[a][b] += d[a] * gij[b];
+          if (!directed_copy && j < nlocal) {
+            double *Gj = grad[j];
+            for (int a = 0; a < DIM; a++)
+              for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
+          }
+        }
+        for (int a = 0; a < DIM; a++)
+          for (int b = 0; b < DIM; b++) Gi[3 * a + b] = sum[a][b];
       }
     }
 
@@ -110,10 +135,11 @@ namespace SPHElastic {
     template <int DIM, typename Visit>
     void divergence(int nlocal, const double *const *q, double sign, Visit visit) const
     {
+      const bool directed_copy = directed;
       for (int p = 0; p < npairs; p++) {
         const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-        const double *gij = &pair_g[(bigint) p * 2 * DIM];
-        const double *gji = gij + DIM;
+        double gij[DIM], gji[DIM];
+        load_gradients<DIM>(p, gij, gji);
         const double *Qi = q[i];
         const double *Qj = q[j];
         double fij[3] = {0.0, 0.0, 0.0};
@@ -125,7 +151,45 @@ namespace SPHElastic {
           }
           fij[a] = sign * (qi - qj);
         }
-        visit(i, j, fij, !directed && j < nlocal);
+        visit(i, j, fij, !directed_copy && j < nlocal);
+      }
+    }
+
+    /* ----------------------------------------------------------------------
+       the same divergence added straight to the forces f (no virial):
+       f_i += f_ij, f_j -= f_ij where j's share is this rank's
+    ------------------------------------------------------------------------- */
+
+    template <int DIM>
+    void divergence_into(int nlocal, const double *const *q, double sign, double *const *f) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
+        double Qi[DIM][DIM], fi[DIM];
+        for (int a = 0; a < DIM; a++) {
+          fi[a] = f[i][a];
+          for (int b = 0; b < DIM; b++) Qi[a][b] = q[i][3 * a + b];
+        }
+        for (int p = run_first[r]; p < run_end(r); p++) {
+          const int j = pair_atoms[2 * p + 1];
+          double gij[DIM], gji[DIM], fij[DIM];
+          load_gradients<DIM>(p, gij, gji);
+          const double *Qj = q[j];
+          for (int a = 0; a < DIM; a++) {
+            double qi = 0.0, qj = 0.0;
+            for (int b = 0; b < DIM; b++) {
+              qi += Qi[a][b] * gij[b];
+              qj += Qj[3 * a + b] * gji[b];
+            }
+            fij[a] = sign * (qi - qj);
+            fi[a] += fij[a];
+          }
+          if (!directed_copy && j < nlocal)
+            for (int a = 0; a < DIM; a++) f[j][a] -= fij[a];
+        }
+        for (int a = 0; a < DIM; a++) f[i][a] = fi[a];
       }
     }
 
@@ -143,39 +207,124 @@ namespace SPHElastic {
     void hourglass(int nlocal, double alpha, const double *const *u, const double *const *grad,
                    double *const *q, Visit visit) const
     {
-      // a copy the compiler need not reload after every store through a double*
+      // copies the compiler need not reload after every store through a double*
       const bool directed_copy = directed;
       for (int p = 0; p < npairs; p++) {
         const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
         const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
         const double kij = alpha * hg[0];
-        const double *X = hg + 1;
+        double X[DIM];
+        for (int b = 0; b < DIM; b++) X[b] = hg[1 + b];
         double d[3] = {0.0, 0.0, 0.0};
         const double *Gi = grad[i], *Gj = grad[j];
+        const double *ui = u[i], *uj = u[j];
         for (int a = 0; a < DIM; a++) {
           double gx = 0.0;
           for (int b = 0; b < DIM; b++) gx += (Gi[3 * a + b] + Gj[3 * a + b]) * X[b];
-          d[a] = u[j][a] - u[i][a] - 0.5 * gx;
+          d[a] = uj[a] - ui[a] - 0.5 * gx;
         }
         const bool both = !directed_copy && j < nlocal;
-        double *qi = q[i], *qj = q[j];
+        double half_kd[DIM];
+        for (int a = 0; a < DIM; a++) half_kd[a] = 0.5 * kij * d[a];
+        double *qi = q[i];
         for (int a = 0; a < DIM; a++)
-          for (int b = 0; b < DIM; b++) {
-            const double dq = 0.5 * kij * d[a] * X[b];
-            qi[3 * a + b] -= dq;
-            if (both) qj[3 * a + b] -= dq;
-          }
+          for (int b = 0; b < DIM; b++) qi[3 * a + b] -= half_kd[a] * X[b];
+        if (both) {
+          double *qj = q[j];
+          for (int a = 0; a < DIM; a++)
+            for (int b = 0; b < DIM; b++) qj[3 * a + b] -= half_kd[a] * X[b];
+        }
         visit(i, j, kij, d, both);
       }
     }
 
+    /* ----------------------------------------------------------------------
+       the hourglass loop with its force f_i += k_ij d, f_j -= k_ij d added
+       straight to f (no virial, no per-atom energy); returns this rank's
+       hourglass energy if energy is set (else 0)
+    ------------------------------------------------------------------------- */
+
+    template <int DIM>
+    double hourglass_into(int nlocal, double alpha, const double *const *u,
+                          const double *const *grad, double *const *q, double *const *f,
+                          bool energy) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      double energy_sum = 0.0;
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
+        double Gi[DIM][DIM], qi[DIM][DIM], fi[DIM], ui[DIM];
+        for (int a = 0; a < DIM; a++) {
+          ui[a] = u[i][a];
+          fi[a] = f[i][a];
+          for (int b = 0; b < DIM; b++) {
+            Gi[a][b] = grad[i][3 * a + b];
+            qi[a][b] = q[i][3 * a + b];
+          }
+        }
+        for (int p = run_first[r]; p < run_end(r); p++) {
+          const int j = pair_atoms[2 * p + 1];
+          const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+          const double kij = alpha * hg[0];
+          double X[DIM], d[3] = {0.0, 0.0, 0.0};
+          for (int b = 0; b < DIM; b++) X[b] = hg[1 + b];
+          const double *Gj = grad[j];
+          const double *uj = u[j];
+          for (int a = 0; a < DIM; a++) {
+            double gx = 0.0;
+            for (int b = 0; b < DIM; b++) gx += (Gi[a][b] + Gj[3 * a + b]) * X[b];
+            d[a] = uj[a] - ui[a] - 0.5 * gx;
+          }
+          const bool both = !directed_copy && j < nlocal;
+          double half_kd[DIM];
+          for (int a = 0; a < DIM; a++) half_kd[a] = 0.5 * kij * d[a];
+          for (int a = 0; a < DIM; a++)
+            for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
+          if (energy) {
+            const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            energy_sum += both ? 2.0 * e : e;
+          }
+          for (int a = 0; a < DIM; a++) fi[a] += kij * d[a];
+          if (both) {
+            double *qj = q[j];
+            for (int a = 0; a < DIM; a++)
+              for (int b = 0; b < DIM; b++) qj[3 * a + b] -= half_kd[a] * X[b];
+            for (int a = 0; a < DIM; a++) f[j][a] += -(kij * d[a]);
+          }
+        }
+        for (int a = 0; a < DIM; a++) {
+          f[i][a] = fi[a];
+          for (int b = 0; b < DIM; b++) q[i][3 * a + b] = qi[a][b];
+        }
+      }
+      return energy_sum;
+    }
+
    private:
+    // one past the last pair of run r
+    int run_end(int r) const
+    {
+      return r + 1 < static_cast<int>(run_first.size()) ? run_first[r + 1] : npairs;
+    }
+    // g_ij and g_ji of pair p, into locals
+    template <int DIM> void load_gradients(int p, double *gij, double *gji) const
+    {
+      const double *g = &pair_g[(bigint) p * 2 * DIM];
+      for (int a = 0; a < DIM; a++) {
+        gij[a] = g[a];
+        gji[a] = g[DIM + a];
+      }
+    }
+
     Memory *memory;
     int npairs = 0, maxpairs = 0, maxpairs_hg = 0;
     bool directed = false;
-    int *pair_atoms = nullptr;    // i and j of each pair
-    double *pair_g = nullptr;     // g_ij then g_ji of each pair, d doubles each
-    double *pair_hg = nullptr;    // k_ij / alpha then X_ij of each pair, 1 + d doubles
+    int *pair_atoms = nullptr;     // i and j of each pair
+    double *pair_g = nullptr;      // g_ij then g_ji of each pair, d doubles each
+    double *pair_hg = nullptr;     // k_ij / alpha then X_ij of each pair, 1 + d doubles
+    std::vector<int> run_atom;     // the atom i of each run of consecutive pairs
+    std::vector<int> run_first;    // and its first pair
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
