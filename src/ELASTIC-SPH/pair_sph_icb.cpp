@@ -393,7 +393,9 @@ template <int DIM> void PairSPHICB::force_divergence()
   const int nlocal = atom->nlocal;
   double *const *const f = atom->f;
   if (!vflag_either) {
-    sweeps->divergence_into<DIM>(nlocal, qstress, 1.0, f);
+    sweeps->divergence_into<DIM>(nlocal, qstress, 1.0, [f](int i) {
+      return f[i];
+    });
     return;
   }
   sweeps->divergence<DIM>(nlocal, qstress, 1.0, [&](int i, int j, const double *fij, bool both) {
@@ -606,8 +608,13 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
   double energy_sum = 0.0;
   // most steps tally no virial and no per-atom energy: forces only
   if (!vflag_either && !tally_atom) {
-    eng_vdwl += sweeps->hourglass_into<DIM>(atom->nlocal, hourglass, x, defgrad, qstress, atom->f,
-                                            tally_global);
+    double *const *const f = atom->f;
+    eng_vdwl += sweeps->hourglass_into<DIM>(
+        atom->nlocal, hourglass, x, defgrad, qstress, 1.0,
+        [f](int i) {
+          return f[i];
+        },
+        tally_global);
     return;
   }
   sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,

@@ -265,16 +265,13 @@ void ICBLinearisation::hessian_product(const double *v, double *kv)
   pair.forward_comm_array(dqstress, 9);
 
   // (K v)_i = -sum_j (dQ_i g_ij - dQ_j g_ji)
-  const int dim = two_d ? 2 : 3;
-  auto add = [kv, dim](int i, int j, const double *fij, bool both) {
-    for (int a = 0; a < dim; a++) kv[3 * i + a] += fij[a];
-    if (both)
-      for (int a = 0; a < dim; a++) kv[3 * j + a] -= fij[a];
+  auto row = [kv](int i) {
+    return kv + 3 * i;
   };
   if (two_d)
-    sweeps.divergence<2>(nlocal, dqstress, -1.0, add);
+    sweeps.divergence_into<2>(nlocal, dqstress, -1.0, row);
   else
-    sweeps.divergence<3>(nlocal, dqstress, -1.0, add);
+    sweeps.divergence_into<3>(nlocal, dqstress, -1.0, row);
 }
 
 /* ----------------------------------------------------------------------
@@ -285,13 +282,12 @@ void ICBLinearisation::hessian_product(const double *v, double *kv)
 
 template <int DIM> void ICBLinearisation::hourglass_product_pairs(double *kv)
 {
-  pair.sweeps->hourglass<DIM>(atom->nlocal, pair.hourglass, vproduct, dfproduct, dqstress,
-                              [&](int i, int j, double kij, const double *d, bool both) {
-                                for (int a = 0; a < DIM; a++) {
-                                  kv[3 * i + a] -= kij * d[a];
-                                  if (both) kv[3 * j + a] += kij * d[a];
-                                }
-                              });
+  pair.sweeps->hourglass_into<DIM>(
+      atom->nlocal, pair.hourglass, vproduct, dfproduct, dqstress, -1.0,
+      [kv](int i) {
+        return kv + 3 * i;
+      },
+      false);
 }
 
 /* ----------------------------------------------------------------------

@@ -156,20 +156,22 @@ namespace SPHElastic {
     }
 
     /* ----------------------------------------------------------------------
-       the same divergence added straight to the forces f (no virial):
-       f_i += f_ij, f_j -= f_ij where j's share is this rank's
+       the same divergence added straight to per-atom rows (no virial):
+       row(i) += f_ij, row(j) -= f_ij where j's share is this rank's;
+       row(i) is the double* of atom i (its force, or its slice of a vector)
     ------------------------------------------------------------------------- */
 
-    template <int DIM>
-    void divergence_into(int nlocal, const double *const *q, double sign, double *const *f) const
+    template <int DIM, typename Row>
+    void divergence_into(int nlocal, const double *const *q, double sign, Row row) const
     {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
       for (int r = 0; r < nruns; r++) {
         const int i = run_atom[r];
         double Qi[DIM][DIM], fi[DIM];
+        double *const ri = row(i);
         for (int a = 0; a < DIM; a++) {
-          fi[a] = f[i][a];
+          fi[a] = ri[a];
           for (int b = 0; b < DIM; b++) Qi[a][b] = q[i][3 * a + b];
         }
         for (int p = run_first[r]; p < run_end(r); p++) {
@@ -186,10 +188,12 @@ namespace SPHElastic {
             fij[a] = sign * (qi - qj);
             fi[a] += fij[a];
           }
-          if (!directed_copy && j < nlocal)
-            for (int a = 0; a < DIM; a++) f[j][a] -= fij[a];
+          if (!directed_copy && j < nlocal) {
+            double *const rj = row(j);
+            for (int a = 0; a < DIM; a++) rj[a] -= fij[a];
+          }
         }
-        for (int a = 0; a < DIM; a++) f[i][a] = fi[a];
+        for (int a = 0; a < DIM; a++) ri[a] = fi[a];
       }
     }
 
@@ -239,14 +243,15 @@ namespace SPHElastic {
     }
 
     /* ----------------------------------------------------------------------
-       the hourglass loop with its force f_i += k_ij d, f_j -= k_ij d added
-       straight to f (no virial, no per-atom energy); returns this rank's
-       hourglass energy if energy is set (else 0)
+       the hourglass loop with its pair term sign k_ij d added straight to
+       row(i) and subtracted from row(j) (no virial, no per-atom energy):
+       sign +1 for the force, -1 for its linearisation K v.  Returns this
+       rank's hourglass energy if energy is set (else 0)
     ------------------------------------------------------------------------- */
 
-    template <int DIM>
+    template <int DIM, typename Row>
     double hourglass_into(int nlocal, double alpha, const double *const *u,
-                          const double *const *grad, double *const *q, double *const *f,
+                          const double *const *grad, double *const *q, double sign, Row row,
                           bool energy) const
     {
       const bool directed_copy = directed;
@@ -255,9 +260,10 @@ namespace SPHElastic {
       for (int r = 0; r < nruns; r++) {
         const int i = run_atom[r];
         double Gi[DIM][DIM], qi[DIM][DIM], fi[DIM], ui[DIM];
+        double *const ri = row(i);
         for (int a = 0; a < DIM; a++) {
           ui[a] = u[i][a];
-          fi[a] = f[i][a];
+          fi[a] = ri[a];
           for (int b = 0; b < DIM; b++) {
             Gi[a][b] = grad[i][3 * a + b];
             qi[a][b] = q[i][3 * a + b];
@@ -285,16 +291,17 @@ namespace SPHElastic {
             const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             energy_sum += both ? 2.0 * e : e;
           }
-          for (int a = 0; a < DIM; a++) fi[a] += kij * d[a];
+          for (int a = 0; a < DIM; a++) fi[a] += sign * (kij * d[a]);
           if (both) {
             double *qj = q[j];
             for (int a = 0; a < DIM; a++)
               for (int b = 0; b < DIM; b++) qj[3 * a + b] -= half_kd[a] * X[b];
-            for (int a = 0; a < DIM; a++) f[j][a] += -(kij * d[a]);
+            double *const rj = row(j);
+            for (int a = 0; a < DIM; a++) rj[a] -= sign * (kij * d[a]);
           }
         }
         for (int a = 0; a < DIM; a++) {
-          f[i][a] = fi[a];
+          ri[a] = fi[a];
           for (int b = 0; b < DIM; b++) q[i][3 * a + b] = qi[a][b];
         }
       }
