@@ -609,12 +609,14 @@ template <int DIM> void PairSPHICB::hourglass_pairs()
   // most steps tally no virial and no per-atom energy: forces only
   if (!vflag_either && !tally_atom) {
     double *const *const f = atom->f;
-    eng_vdwl += sweeps->hourglass_into<DIM>(
-        atom->nlocal, hourglass, x, defgrad, qstress, 1.0,
-        [f](int i) {
-          return f[i];
-        },
-        tally_global);
+    auto row = [f](int i) {
+      return f[i];
+    };
+    const int nlocal = atom->nlocal;
+    if (tally_global)
+      eng_vdwl += sweeps->hourglass_into<DIM, 1, true>(nlocal, hourglass, x, defgrad, qstress, row);
+    else
+      sweeps->hourglass_into<DIM, 1, false>(nlocal, hourglass, x, defgrad, qstress, row);
     return;
   }
   sweeps->hourglass<DIM>(atom->nlocal, hourglass, x, defgrad, qstress,

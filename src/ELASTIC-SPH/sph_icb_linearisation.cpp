@@ -282,12 +282,10 @@ void ICBLinearisation::hessian_product(const double *v, double *kv)
 
 template <int DIM> void ICBLinearisation::hourglass_product_pairs(double *kv)
 {
-  pair.sweeps->hourglass_into<DIM>(
-      atom->nlocal, pair.hourglass, vproduct, dfproduct, dqstress, -1.0,
-      [kv](int i) {
-        return kv + 3 * i;
-      },
-      false);
+  pair.sweeps->hourglass_into<DIM, -1, false>(atom->nlocal, pair.hourglass, vproduct, dfproduct,
+                                              dqstress, [kv](int i) {
+                                                return kv + 3 * i;
+                                              });
 }
 
 /* ----------------------------------------------------------------------

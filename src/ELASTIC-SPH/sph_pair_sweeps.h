@@ -243,16 +243,16 @@ namespace SPHElastic {
     }
 
     /* ----------------------------------------------------------------------
-       the hourglass loop with its pair term sign k_ij d added straight to
+       the hourglass loop with its pair term SIGN k_ij d added straight to
        row(i) and subtracted from row(j) (no virial, no per-atom energy):
-       sign +1 for the force, -1 for its linearisation K v.  Returns this
-       rank's hourglass energy if energy is set (else 0)
+       SIGN +1 for the force, -1 for its linearisation K v.  Returns this
+       rank's hourglass energy if ENERGY (else 0): both are template
+       arguments, so that most steps' loop carries neither
     ------------------------------------------------------------------------- */
 
-    template <int DIM, typename Row>
+    template <int DIM, int SIGN, bool ENERGY, typename Row>
     double hourglass_into(int nlocal, double alpha, const double *const *u,
-                          const double *const *grad, double *const *q, double sign, Row row,
-                          bool energy) const
+                          const double *const *grad, double *const *q, Row row) const
     {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
@@ -287,17 +287,18 @@ namespace SPHElastic {
           for (int a = 0; a < DIM; a++) half_kd[a] = 0.5 * kij * d[a];
           for (int a = 0; a < DIM; a++)
             for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
-          if (energy) {
+          if (ENERGY) {
             const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             energy_sum += both ? 2.0 * e : e;
           }
-          for (int a = 0; a < DIM; a++) fi[a] += sign * (kij * d[a]);
+          // (-1) * x is exact: the same sums as fi - x and rj + x
+          for (int a = 0; a < DIM; a++) fi[a] += SIGN * (kij * d[a]);
           if (both) {
             double *qj = q[j];
             for (int a = 0; a < DIM; a++)
               for (int b = 0; b < DIM; b++) qj[3 * a + b] -= half_kd[a] * X[b];
             double *const rj = row(j);
-            for (int a = 0; a < DIM; a++) rj[a] -= sign * (kij * d[a]);
+            for (int a = 0; a < DIM; a++) rj[a] -= SIGN * (kij * d[a]);
           }
         }
         for (int a = 0; a < DIM; a++) {
