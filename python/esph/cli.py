@@ -5,10 +5,12 @@ module that does the work."""
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 
-from . import bench3d, figures, matrix, rings, speed, spheres3d, statics, theory, validate
+from . import (bench, bench3d, figures, matrix, rings, speed, spheres3d, statics, theory,
+               validate, weak)
 from .report import progress
 
 
@@ -42,8 +44,34 @@ def cmd_validate(args) -> int:
 
 
 def cmd_bench(args) -> int:
+    if args.suite:
+        return cmd_bench_suite(args)
     speed.throughput(_floats(args.dx), _names(args.styles, speed.BENCH_STYLES, "style"),
                      _ints(args.np), args.steps)
+    return 0
+
+
+def cmd_bench_suite(args) -> int:
+    bodies = _names(args.bodies, bench.BODIES, "body")
+    h2h_dx = args.h2h_dx and _floats(args.h2h_dx)
+    h2h_steps = args.h2h_steps and _ints(args.h2h_steps)
+    if h2h_dx and len(h2h_dx) != len(bodies):
+        print(f"esph: --h2h-dx needs one spacing per body ({len(bodies)})", file=sys.stderr)
+        raise SystemExit(2)
+    if h2h_steps and len(h2h_steps) != 2 * len(bodies):
+        print(f"esph: --h2h-steps needs ours,MACHDYN per body ({2 * len(bodies)} numbers)",
+              file=sys.stderr)
+        raise SystemExit(2)
+    options = bench.SuiteOptions(
+        only=tuple(_names(args.only, bench.PARTS, "part")), reps=args.reps, bodies=tuple(bodies),
+        h2h_dx=h2h_dx and tuple(h2h_dx), h2h_steps=h2h_steps and tuple(h2h_steps),
+        statics_dx=tuple(_floats(args.statics_dx)), statics_np=tuple(_ints(args.statics_np)),
+        statics_side=args.statics_side, statics_timeout=args.timeout,
+        weak_cases=tuple(_names(args.weak_cases, weak.CASES, "case")),
+        weak_ranks=tuple(_ints(args.weak_ranks)), weak_dx=args.weak_dx,
+        weak_steps=args.weak_steps)
+    command = shlex.join(["python", "-m", "esph", *args.argv])
+    bench.suite(options, args.json_dir and Path(args.json_dir), command, progress=progress)
     return 0
 
 
@@ -141,6 +169,42 @@ def main(argv=None) -> int:
                      help="comma-separated: " + ", ".join(speed.BENCH_STYLES) + " (tlsph = MACHDYN "
                           "smd/tlsph on the same beam; icb3d and tlsph3d: the 3d cantilever, e.g. "
                           "--dx 0.002 --steps 200)")
+    ben.add_argument("--suite", action="store_true",
+                     help="the extended benchmark (scripts/bench without arguments) instead: "
+                          "head to head with MACHDYN, 3D statics against dynamics, weak scaling "
+                          "of memory; --dx, --np, --steps and --styles do not apply")
+    ben.add_argument("--only", default=",".join(bench.PARTS),
+                     help="--suite: comma-separated parts: " + ", ".join(bench.PARTS))
+    ben.add_argument("--reps", type=int, default=3,
+                     help="--suite: alternating runs per head-to-head variant, best kept (3)")
+    ben.add_argument("--json-dir", help="--suite: write headtohead.json, statics_bench.json and "
+                     "weak.json here, each with its entry in sources.json (scripts/bench: "
+                     "doc/results)")
+    ben.add_argument("--bodies", default=",".join(bench.BODIES),
+                     help="--suite: head-to-head bodies: " + ", ".join(
+                         f"{k} ({b.label})" for k, b in bench.BODIES.items()))
+    ben.add_argument("--h2h-dx", help="--suite: one spacing per body, replacing " + ", ".join(
+        f"{b.variables['dx']:g}" for b in bench.BODIES.values()))
+    ben.add_argument("--h2h-steps", help="--suite: steps per run, ours,MACHDYN per body, "
+                     "replacing " + ",".join(f"{b.steps},{b.machdyn_steps}"
+                                             for b in bench.BODIES.values()))
+    ben.add_argument("--statics-dx", default="0.002,0.001",
+                     help="--suite: spacings of the 3D statics (0.002: 10k particles, 0.001: "
+                          "81k)")
+    ben.add_argument("--statics-np", default="2", help="--suite: ranks of the 3D statics (2)")
+    ben.add_argument("--statics-side", type=float, default=0.02,
+                     help="--suite: section side of the 3D statics' body in m, L = 10 side "
+                          "(0.02)")
+    ben.add_argument("--timeout", type=float, default=3600,
+                     help="--suite: seconds per statics run (3600)")
+    ben.add_argument("--weak-cases", default=",".join(weak.CASES),
+                     help="--suite: weak-scaling cases: " + ", ".join(weak.CASES))
+    ben.add_argument("--weak-ranks", default=",".join(map(str, weak.RANKS)),
+                     help="--suite: weak-scaling rank counts (1,2,4)")
+    ben.add_argument("--weak-dx", type=float,
+                     help="--suite: spacing of every weak-scaling case (default: each case's own)")
+    ben.add_argument("--weak-steps", type=int,
+                     help="--suite: steps of the weak-scaling dynamics (default 200)")
     ben.set_defaults(func=cmd_bench)
 
     b3d = sub.add_parser("bench3d", help="3D cantilever statics per linear solver: iterations, "
@@ -235,4 +299,5 @@ def main(argv=None) -> int:
     sph.set_defaults(func=cmd_spheres3d)
 
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)   # recorded with the results
     return args.func(args)

@@ -469,6 +469,19 @@ def bench_section(name: str, source: dict, data: dict) -> list[str]:
     return out
 
 
+def bench3d_rows(rows: list) -> list[str]:
+    """The table of esph bench3d's rows (as bench3d.bench3d returns them)."""
+    return table(["dx [mm]", "atoms", "ranks", "solver", "Newton iterations", "wall [s]",
+                  "MB per rank", "100 dynamic steps [s]", "ratio"],
+                 [[f"{r['dx'] * 1e3:g}", str(r.get("atoms", "")), str(r["ranks"]), r["solver"],
+                   str(r.get("iterations", "")), num(r.get("wall"), ".1f"),
+                   num(r.get("rss_mb"), ".0f"), num(r.get("dyn100"), ".2f"),
+                   num(r.get("ratio"), ".1f")] if not r.get("failed") else
+                  [f"{r['dx'] * 1e3:g}", "", str(r["ranks"]), r["solver"],
+                   r["failed"], "", "", "", ""]
+                  for r in rows])
+
+
 def bench3d_section(name: str, source: dict, data: dict) -> list[str]:
     out = heading("3D cantilever statics per linear solver (``scripts/bench3d``)", "-")
     out += provenance(name, source)
@@ -477,20 +490,84 @@ def bench3d_section(name: str, source: dict, data: dict) -> list[str]:
                      "on the same ranks; *direct* = the Hessian gathered and factorised on "
                      "rank 0, *mumps* = PETSc's MUMPS across the ranks, *petsc* = matrix-free "
                      "CG with multigrid across the ranks (the default in 3D).")
-    out += table(["dx [mm]", "atoms", "ranks", "solver", "Newton iterations", "wall [s]",
-                  "MB per rank", "100 dynamic steps [s]", "ratio"],
-                 [[f"{r['dx'] * 1e3:g}", str(r.get("atoms", "")), str(r["ranks"]), r["solver"],
-                   str(r.get("iterations", "")), num(r.get("wall"), ".1f"),
-                   num(r.get("rss_mb"), ".0f"), num(r.get("dyn100"), ".2f"),
-                   num(r.get("ratio"), ".1f")] if not r.get("failed") else
-                  [f"{r['dx'] * 1e3:g}", "", str(r["ranks"]), r["solver"],
-                   r["failed"], "", "", "", ""]
-                  for r in data["rows"]])
+    return out + bench3d_rows(data["rows"])
+
+
+def commands(rows: list, keys: tuple, lmp: str | None = None) -> list[str]:
+    """The command lines of rows (each key of `keys` in turn) as one
+    literal block, each once, in order, after a line that says where they
+    run (and which binary `lmp` was, if known)."""
+    lines = list(dict.fromkeys(r[k] for r in rows for k in keys if r.get(k)))
+    if not lines:
+        return []
+    intro = "The commands, from the project root"
+    intro += f" (``lmp`` = ``{lmp}``):" if lmp else ":"
+    return paragraph(intro) + ["::", ""] + [f"   {line}" for line in lines] + [""]
+
+
+def headtohead_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("Head to head with MACHDYN (``scripts/bench``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Million particle-steps per second of LAMMPS's loop "
+                     "time on one rank: ``pair_style sph/icb`` with the defaults (hourglass "
+                     "control 0.2) and with ``-var hg 0``, beside LAMMPS's MACHDYN "
+                     "``smd/tlsph`` on the same body (``hfac`` 2.01 in 2D, its most accurate "
+                     "kernel radius there; 2.4 in 3D); *ratio* = ours / MACHDYN.  The variants "
+                     "ran alternately, each keeping its best run; *loop times* lists every "
+                     "run, in order, so the spread is visible.  MACHDYN runs fewer steps per "
+                     "run (*steps*: ours / MACHDYN); the rate is per particle-step.")
+    rows = data["rows"]
+    out += table(["body", "particles", "steps", "defaults", "hourglass 0", "MACHDYN",
+                  "ratio defaults", "ratio hourglass 0"],
+                 [[r["body"], str(r["particles"]), f"{r['steps']} / {r['machdyn_steps']}",
+                   num(r["rate_defaults"] / 1e6, ".3f"), num(r["rate_hg0"] / 1e6, ".3f"),
+                   num(r["rate_machdyn"] / 1e6, ".3f"), num(r["ratio_defaults"], ".2f"),
+                   num(r["ratio_hg0"], ".2f")] for r in rows])
+    out += table(["body", "loop times, defaults [s]", "hourglass 0 [s]", "MACHDYN [s]"],
+                 [[r["body"]] + [" ".join(f"{t:.3f}" for t in r[k])
+                                 for k in ("loops_defaults", "loops_hg0", "loops_machdyn")]
+                  for r in rows])
+    out += commands(rows, ("command_defaults", "command_hg0", "command_machdyn"), data.get("lmp"))
+    return out
+
+
+def statics_bench_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("3D cantilever statics against 100 dynamic steps (``scripts/bench``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}.  Wall time of the whole run (start-up included), "
+                     "Newton iterations, peak memory of the largest rank, and the ratio of the "
+                     "static solve's wall time to that of 100 dynamic steps.")
+    out += bench3d_rows(data["rows"])
+    out += commands(data["rows"], ("command", "dyn100_command"), data.get("lmp"))
+    return out
+
+
+def weak_section(name: str, source: dict, data: dict) -> list[str]:
+    out = heading("Weak scaling of memory (``scripts/bench``)", "-")
+    out += provenance(name, source)
+    out += paragraph(f"{data['title']}: the body grows along its length with the rank count "
+                     "(4 ranks oversubscribe 2 cores where the machine has 2).  *MB per rank* "
+                     "is each rank's peak resident memory (``getrusage`` of its ``lmp``), in "
+                     "rank order; *bytes per particle* is the largest rank's over the "
+                     "particles per rank, the whole footprint (binary, libraries and MPI "
+                     "buffers included): a case whose bytes per particle stay flat as the "
+                     "ranks grow has memory that scales.  *dyn* = ``route nve``, *newton* = "
+                     "``min_style sph/newton`` with the defaults.")
+    rows = data["rows"]
+    out += table(["case", "dim", "ranks", "particles", "per rank", "wall [s]", "MB per rank",
+                  "max MB", "bytes per particle"],
+                 [[r["case"], str(r["dim"]), str(r["ranks"]), str(r["atoms"]),
+                   f"{r['per_rank']:.0f}", num(r["wall"], ".1f"),
+                   " ".join(f"{v:.1f}" for v in r["rss_mb"]), num(r["max_rss_mb"], ".1f"),
+                   num(r["bytes_per_particle"], ".0f")] for r in rows])
+    out += commands(rows, ("command",), data.get("lmp"))
     return out
 
 
 SECTIONS = {"validate": validate_section, "statics": statics_section, "speed": speed_section,
-            "bench": bench_section, "bench3d": bench3d_section, "recorded": recorded_section}
+            "bench": bench_section, "bench3d": bench3d_section, "recorded": recorded_section,
+            "headtohead": headtohead_section, "statics_bench": statics_bench_section,
+            "weak": weak_section}
 
 
 # ------------------------------------------- the benches that print only

@@ -21,7 +21,7 @@ LAYERS = (
     ("problems", "schemes"),
     ("fe", "fe.meshes", "fe.solver", "fe.tables", "runner"),
     ("reference", "beam", "validate", "speed", "matrix", "statics", "bench3d", "rings",
-     "figures", "spheres3d"),
+     "figures", "spheres3d", "weak", "bench"),
     ("cli", "__main__", "fe.__main__", "results_page"),
 )
 RANK = {name: k for k, names in enumerate(LAYERS) for name in names}
