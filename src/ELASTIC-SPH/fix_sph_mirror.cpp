@@ -693,6 +693,17 @@ void FixSPHMirror::place_mirrors(const double *u0)
 
 void FixSPHMirror::hand_over_forces()
 {
+  hand_over(atom->f, false);
+}
+
+/* ----------------------------------------------------------------------
+   T^T v of each mirror atom's per-atom vector v (owned atoms) added to its
+   source's and v zeroed at the mirror, as the forces are; with magnitude
+   the entries of T count by their size (a scale for round-off)
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::hand_over(double **values, bool magnitude)
+{
   const int nall = atom->nlocal + atom->nghost;
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
@@ -701,18 +712,18 @@ void FixSPHMirror::hand_over_forces()
   }
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
 
-  double **f = atom->f;
   double **x0 = atom->x0;
   double T[3][3];
   for (const auto &[i, j] : links) {
     tie(x0[i], T);
     for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) fsource[j][b] += T[a][b] * f[i][a];
-    for (int a = 0; a < 3; a++) f[i][a] = 0.0;
+      for (int b = 0; b < 3; b++)
+        fsource[j][b] += (magnitude ? std::fabs(T[a][b]) : T[a][b]) * values[i][a];
+    for (int a = 0; a < 3; a++) values[i][a] = 0.0;
   }
   comm->reverse_comm(this);
   for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) f[i][a] += fsource[i][a];
+    for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
 }
 
 /* ---------------------------------------------------------------------- */

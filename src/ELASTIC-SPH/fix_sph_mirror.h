@@ -88,6 +88,9 @@ class FixSPHMirror : public Fix {
   }
   // local index (owned or ghost copy) of the source of owned mirror atom i
   int local_source(int i) const;
+  // hand a per-atom vector of the owned atoms over from the mirrors to
+  // their sources as the forces are (T^T v; |T|^T v with magnitude)
+  void hand_over(double **values, bool magnitude);
 
  private:
   SPHElastic::MirrorSurface surface;    // what the body is mirrored across
