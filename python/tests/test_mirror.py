@@ -5,6 +5,8 @@ clamp, forces = minus the gradient of the energy that is left, 1/2/4 ranks
 with mirror and source atoms on different ranks, restart, beam accuracy."""
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -171,6 +173,25 @@ def test_source_beyond_the_ghost_cutoff_is_an_error(tmp_path):
         run_mpi(script, {"np": 4, "cut": 0.0, "stress": "pk1"}, 4)
     assert "is beyond the ghost cut-off" in str(err.value)
     assert "comm_modify cutoff" in str(err.value)
+
+
+@pytest.mark.slow
+def test_unmatched_mirror_is_the_same_error_on_several_ranks(tmp_path):
+    """The pairing meets mirrors and candidate sources on the ranks of their
+    region of space; a mirror without a source stops every rank with one
+    error that names the same atom as on one rank (the first in the order
+    of the ranks, then of their atoms)."""
+    script = tmp_path / "in.mirror"
+    script.write_text(MPI_SCRIPT.replace("sph/mirror x 0.0", "sph/mirror x 0.0002"))
+    errors = []
+    for n in (1, 2, 4):
+        with pytest.raises(RuntimeError) as err:
+            run_mpi(script, {"np": n, "cut": 0.008, "stress": "pk1"}, n)
+        found = re.search(r"sph/mirror: atom (\d+) of group mirror at reference position "
+                          r"\(([^)]*)\) has no source", str(err.value))
+        assert found, str(err.value)[-2000:]
+        errors.append(found.groups())
+    assert errors[1] == errors[0] and errors[2] == errors[0]
 
 
 def test_restart_continuation_equals_uninterrupted(tmp_path):

@@ -135,6 +135,81 @@ def test_newton_on_ranks_agrees_with_serial():
         assert tip["tip_dh"] == pytest.approx(tips[0]["tip_dh"], rel=1e-10)
 
 
+# a bar clamped by mirrors at x = 0, bent and stretched by 5 %; fixed box
+# walls in x keep the rank boundaries where balance puts them
+MIGRATING_NEWTON = """
+units si
+dimension 2
+boundary f s p
+atom_style sph/elastic
+atom_modify map array
+processors ${np} 1 1
+comm_modify cutoff 0.008
+lattice sq 0.001 origin 0.5 0.5 0.0
+region box block -3 14 0 4 -0.5 0.5
+region body block -3 12 0 4 -0.5 0.5
+create_box 1 box
+create_atoms 1 region body
+set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+pair_style sph/icb 0.0012 stress ${stress} gradient quadratic hourglass 0.05
+pair_coeff * * 1e9 0.0
+fix rot all sph/rotation
+neighbor 0.0005 bin
+neigh_modify every 1 delay 0 check yes
+region left block INF 0.0 INF INF INF INF units box
+group mirror region left
+region endzone block 0.011 INF INF INF INF INF units box
+group tip region endzone
+fix clamp mirror sph/mirror x 0.0
+fix load tip addforce 50.0 -2.0 0.0
+fix_modify load energy yes
+compute ref all property/atom x0x x0y
+variable ux atom x-c_ref[1]
+variable uy atom y-c_ref[2]
+compute tipx tip reduce ave v_ux
+compute tipy tip reduce ave v_uy
+thermo_style custom step pe ke fnorm c_tipx c_tipy
+thermo 1
+run 0
+if "${np} == 2" then "balance 1.0 x $((0.0-xlo)/lx)"
+if "${np} == 4" then "balance 1.0 x $((-0.001-xlo)/lx) $((0.0-xlo)/lx) $((0.0057-xlo)/lx)"
+min_style sph/newton
+minimize 0.0 1.0e-10 100 1000
+print "RESULT tipx $(c_tipx:%.17g)"
+print "RESULT tipy $(c_tipy:%.17g)"
+print "RESULT pe $(pe:%.17g)"
+print "RESULT steps $(step)"
+"""
+
+
+@pytest.mark.parametrize("stress", ["pk1", "corotated"])
+@pytest.mark.slow
+def test_newton_with_rows_on_other_ranks_agrees_with_serial(tmp_path, stress):
+    """Each rank numbers the free coordinates of its own atoms; a row that
+    another rank's atom uses is exchanged.  Rank boundaries at x = 0 (2
+    ranks) and at -1, 0 and 5.7 mm (4 ranks) put mirror atoms and their
+    sources on different ranks, and the stretch carries the atoms at
+    x = 5.5 mm over the last boundary during the solve, where they keep
+    the rows their first rank numbered.  The Newton iterates are those of
+    one rank: the same number of steps, the tip to round-off."""
+    script = tmp_path / "in.migrating"
+    script.write_text(MIGRATING_NEWTON)
+    runs = [run_mpi(script, {"np": n, "stress": stress}, n) for n in (1, 2, 4)]
+    serial = runs[0].variables
+    assert serial["tipx"] > 4e-4    # stretched by about 5 %
+    serial_norms = force_norms(runs[0].log)
+    for out in runs[1:]:
+        assert out.variables["steps"] == serial["steps"]
+        for key in ("tipx", "tipy", "pe"):
+            assert out.variables[key] == pytest.approx(serial[key], rel=1e-10), key
+        # the iterates themselves until the residual reaches round-off
+        for f, f1 in zip(force_norms(out.log), serial_norms):
+            if f1 > 1e-6 * serial_norms[0]:
+                assert f == pytest.approx(f1, rel=1e-6)
+
+
 @pytest.mark.parametrize("linear", ["petsc", "mumps"])
 def test_distributed_solvers_reach_the_direct_solve_equilibrium(linear):
     """min_modify solver petsc (CG on the matrix-free Hessian product) and

@@ -43,9 +43,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
-#include <unordered_set>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -63,12 +63,33 @@ constexpr double IMAGE_GAP_TOL = 0.3;
 // the largest push of a plane into the body in one minimization, in
 // particle spacings: 0.4 reached a 10 % compression in 4 increments
 constexpr double MAX_PUSH_PER_MINIMIZE = 0.5;
+
+// what meets in the rendezvous of the pairing: a mirror atom's image, or a
+// candidate source (or a copy of one for the cells around its own)
+struct PairingDatum {
+  enum { MIRROR, CANDIDATE };
+  double X[3];     // a candidate's reference position; a mirror's image
+  double Xm[3];    // the atom's own reference position
+  double volume, mass;
+  tagint tag;
+  int rank;    // its owner
+  int kind;
+};
+
+// what a mirror atom's owner learns: its source (-1 if none), the volume
+// and mass it takes from it, and whether the layers are a spacing apart
+struct PairingAnswer {
+  tagint mirror, source;
+  double volume, mass;
+  double gap, spacing;
+  int misplaced;
+};
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
 
 FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), fsource(nullptr), nmax(0)
+    Fix(lmp, narg, arg), source_tag(nullptr), fsource(nullptr), nmax(0)
 {
   if (narg < 5) utils::missing_cmd_args(FLERR, "fix sph/mirror", error);
   const int taken = surface.parse(lmp, "Fix sph/mirror", 3, narg, arg);
@@ -78,6 +99,13 @@ FixSPHMirror::FixSPHMirror(LAMMPS *lmp, int narg, char **arg) :
   comm_reverse = 3;
   comm_what = COMM_POSITION;
   dynamic_group_allow = 0;
+
+  // each mirror atom's source ID travels with it
+  create_attribute = 1;
+  maxexchange = 1;
+  FixSPHMirror::grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  for (int i = 0; i < atom->nlocal; i++) source_tag[i] = 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -147,6 +175,8 @@ void FixSPHMirror::parse_keywords(int iarg, int narg, char **arg)
 
 FixSPHMirror::~FixSPHMirror()
 {
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(source_tag);
   memory->destroy(fsource);
 }
 
@@ -253,14 +283,22 @@ void FixSPHMirror::check_displacement_jump()
 
 void FixSPHMirror::check_other_fixes()
 {
-  std::unordered_set<tagint> sources;
-  for (const auto &link : source) sources.insert(link.second);
+  // the sources: marked at each mirror's link (the source may be a ghost)
+  // and summed onto their owners by the reverse communication
+  const int nall = atom->nlocal + atom->nghost;
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(fsource);
+    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
+  }
+  if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+  for (const auto &link : links) fsource[link.second][0] = 1.0;
+  comm->reverse_comm(this);
   const int *mask = atom->mask;
-  const tagint *tag = atom->tag;
   SPHElastic::require_holds_after(
       lmp, this,
       [&](int i) {
-        return (mask[i] & groupbit) || sources.count(tag[i]);
+        return (mask[i] & groupbit) || fsource[i][0] > 0.0;
       },
       "hands the mirror atoms' forces to their sources, among them");
 
@@ -322,9 +360,13 @@ void FixSPHMirror::min_post_force(int /*vflag*/)
 }
 
 /* ----------------------------------------------------------------------
-   every rank gathers the mirrors and the candidate sources (non-mirror atoms
-   no deeper than the deepest mirror) and matches them the same way, so the
-   mirror -> source map is identical everywhere and survives migration.
+   the mirrors and the candidate sources (non-mirror atoms no deeper than
+   twice the deepest mirror) meet in a rendezvous decomposition of space
+   (comm->rendezvous): cells of twice the mirrors' depth, each on one rank,
+   to which every mirror sends its image and every candidate itself and
+   copies to the ranks of the neighbouring cells.  There each mirror finds
+   its source, and its owner learns the source's ID, kept per atom (it
+   travels with the atom).  No rank holds more than its cells' share.
    The image of a mirror atom is its source's reference position: the
    mirror layers must be the body's first layers reflected across the
    surface (lattice layers for a plane on a cell boundary; otherwise made
@@ -337,6 +379,7 @@ void FixSPHMirror::pair_up()
   const int *mask = atom->mask;
   const tagint *tag = atom->tag;
   double **x0 = atom->x0;
+  for (int i = 0; i < nlocal; i++) source_tag[i] = 0;
 
   double depth_max = 0.0, depth_min = std::numeric_limits<double>::max();
   double sides_mine[2] = {0.0, 0.0};    // mirror atoms at distance > 0, < 0
@@ -385,7 +428,15 @@ void FixSPHMirror::pair_up()
   auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
   FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
   const int other_mirrors = FixSPHPartners::mirror_groups(modify) & ~groupbit;
-  std::vector<double> mirrors_mine, cands_mine;
+  pairing.tol = tol;
+  pairing.cell = cell;
+  pairing.dmax = dmax;
+  // the candidates reach twice the mirrors' depth, so that the layers they
+  // hold have inward neighbours; a rendezvous cell holds them all
+  pairing.reach = 2.0 * dmax;
+  const int dim = domain->dimension;
+  std::vector<PairingDatum> data;
+  std::vector<int> procs;
   for (int i = 0; i < nlocal; i++) {
     const bool mirror = mask[i] & groupbit;
     if (mirror && (mask[i] & other_mirrors))
@@ -394,80 +445,192 @@ void FixSPHMirror::pair_up()
                  "two mirror surfaces meet, leave the corner empty",
                  id, tag[i]);
     if (!mirror && (mask[i] & other_mirrors)) continue;
-    // twice as deep as the mirrors: sources and their inward neighbours
     if (!mirror && std::fabs(surface.signed_distance(x0[i])) > 2.0 * dmax + tol) continue;
-    auto &dest = mirror ? mirrors_mine : cands_mine;
-    dest.insert(dest.end(),
-                {(double) tag[i], x0[i][0], x0[i][1], x0[i][2], atom->vfrac[i], atom->rmass[i]});
+    PairingDatum d;
+    d.tag = tag[i];
+    d.rank = comm->me;
+    d.volume = atom->vfrac[i];
+    d.mass = atom->rmass[i];
+    for (int a = 0; a < 3; a++) d.Xm[a] = x0[i][a];
+    if (mirror) {
+      // to the cell of its image, where its source must be
+      d.kind = PairingDatum::MIRROR;
+      surface.reflect(x0[i], d.X);
+      data.push_back(d);
+      procs.push_back(rendezvous_rank(d.X));
+      continue;
+    }
+    // to its own cell and to those around it, once per rank
+    d.kind = PairingDatum::CANDIDATE;
+    for (int a = 0; a < 3; a++) d.X[a] = x0[i][a];
+    std::vector<int> ranks;
+    for (int a = -1; a <= 1; a++)
+      for (int b = -1; b <= 1; b++)
+        for (int e = (dim == 3 ? -1 : 0); e <= (dim == 3 ? 1 : 0); e++) {
+          const double Y[3] = {d.X[0] + a * pairing.reach, d.X[1] + b * pairing.reach,
+                               d.X[2] + e * pairing.reach};
+          ranks.push_back(rendezvous_rank(Y));
+        }
+    std::sort(ranks.begin(), ranks.end());
+    ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+    for (int r : ranks) {
+      data.push_back(d);
+      procs.push_back(r);
+    }
   }
-  const auto mirrors = SPHElastic::gather_all(mirrors_mine, world);
-  const auto cands = SPHElastic::gather_all(cands_mine, world);
+  char *answers_buf = nullptr;
+  pairing.nearest = dmax;
+  const int nanswers =
+      comm->rendezvous(0, static_cast<int>(data.size()), reinterpret_cast<char *>(data.data()),
+                       sizeof(PairingDatum), 0, procs.data(), &FixSPHMirror::match_in_rendezvous, 0,
+                       answers_buf, sizeof(PairingAnswer), this);
+  const auto *answers = reinterpret_cast<const PairingAnswer *>(answers_buf);
   // off a lattice plane the mirror-source distance 2 dmin can be any
   // fraction of the spacing: the sources' own spacing then
-  layer_spacing = (surface.axis() >= 0) ? 2.0 * dmin
-                                        : SPHElastic::nearest_distance(cands, NPACK, 1, dmax);
+  if (surface.axis() >= 0)
+    layer_spacing = 2.0 * dmin;
+  else
+    MPI_Allreduce(&pairing.nearest, &layer_spacing, 1, MPI_DOUBLE, MPI_MIN, world);
   if (partners) warn_if_thin(dmax, partners->get_kernel().support());
 
-  const SPHElastic::PointCells sources(cands, NPACK, 1, cell);
-
-  source.clear();
-  std::vector<int> source_index(mirrors.size() / NPACK);
-  for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
-    const auto gtag = (tagint) mirrors[g * NPACK];
-    double want[3];
-    surface.reflect(&mirrors[g * NPACK + 1], want);
-    tagint found = -1;
-    int found_at = -1;
-    // the source may sit in a neighbouring hash cell after round-off
-    sources.visit_near(want, [&](int c) {
-      const double *X = sources.point(c);
-      const double d2 = (X[0] - want[0]) * (X[0] - want[0]) + (X[1] - want[1]) * (X[1] - want[1]) +
-          (X[2] - want[2]) * (X[2] - want[2]);
-      if (d2 > tol * tol) return true;
-      found = (tagint) cands[c * NPACK];
-      found_at = c;
-      return false;
-    });
-    if (found < 0)
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
-                 "no source at ({}, {}, {}); the group must be the mirror image of the body's "
-                 "first layers across {} (lattice layers only for a plane on lattice cell "
-                 "boundaries; otherwise make them with create_sph_mirrors; atoms of another "
-                 "sph/mirror group cannot be sources)",
-                 id, gtag, group->names[igroup], mirrors[g * NPACK + 1], mirrors[g * NPACK + 2],
-                 mirrors[g * NPACK + 3], want[0], want[1], want[2], surface.describe());
-    source[gtag] = found;
-    source_index[g] = found_at;
-    const double ratio = surface.volume_ratio(&cands[found_at * NPACK + 1]);
-    copy_volume(gtag, ratio * cands[found_at * NPACK + 4], ratio * cands[found_at * NPACK + 5]);
+  // an error names the first mirror atom that has it, in the order of the
+  // ranks and then of their atoms
+  int unmatched = nlocal, misplaced = nlocal;      // local indices
+  std::vector<double> misplaced_at(2 * nlocal);    // distance to the source, the spacing there
+  for (int k = 0; k < nanswers; k++) {
+    const PairingAnswer &answer = answers[k];
+    const int i = atom->map(answer.mirror);
+    if (i < 0 || i >= nlocal)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/mirror: the pairing answered for atom {}, not here (internal error)",
+                 id, answer.mirror);
+    if (answer.source < 0) {
+      unmatched = std::min(unmatched, i);
+      continue;
+    }
+    source_tag[i] = answer.source;
+    copy_volume(answer.mirror, answer.volume, answer.mass);
+    if (answer.misplaced) {
+      misplaced = std::min(misplaced, i);
+      misplaced_at[2 * i] = answer.gap;
+      misplaced_at[2 * i + 1] = answer.spacing;
+    }
   }
-  require_images_at_spacing(mirrors, cands, source_index, 2.0 * dmax);
+  memory->sfree(answers_buf);
+
+  // the first rank that has one tells it
+  auto first_rank_with = [&](int local) {
+    int mine = local < nlocal ? comm->me : comm->nprocs, first = 0;
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, world);
+    return first;
+  };
+  int teller = first_rank_with(unmatched);
+  if (teller < comm->nprocs) {
+    double where[7] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    if (comm->me == teller) {
+      where[0] = static_cast<double>(tag[unmatched]);
+      for (int a = 0; a < 3; a++) where[1 + a] = x0[unmatched][a];
+      surface.reflect(x0[unmatched], &where[4]);
+    }
+    MPI_Bcast(where, 7, MPI_DOUBLE, teller, world);
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: atom {} of group {} at reference position ({}, {}, {}) has "
+               "no source at ({}, {}, {}); the group must be the mirror image of the body's "
+               "first layers across {} (lattice layers only for a plane on lattice cell "
+               "boundaries; otherwise make them with create_sph_mirrors; atoms of another "
+               "sph/mirror group cannot be sources)",
+               id, static_cast<tagint>(where[0]), group->names[igroup], where[1], where[2],
+               where[3], where[4], where[5], where[6], surface.describe());
+  }
+  teller = first_rank_with(misplaced);
+  if (teller < comm->nprocs) {
+    double at[3] = {0.0, 0.0, 0.0};
+    if (comm->me == teller) {
+      at[0] = static_cast<double>(tag[misplaced]);
+      at[1] = misplaced_at[2 * misplaced];
+      at[2] = misplaced_at[2 * misplaced + 1];
+    }
+    MPI_Bcast(at, 3, MPI_DOUBLE, teller, world);
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: mirror atom {} lies {:.6g} from its source across {}, where "
+               "the particle spacing is {:.6g}: the particles do not lie in layers parallel to "
+               "the surface, half a spacing from it. A lattice cut by the surface at a slant or "
+               "by a curve is not supported (its cells overlap their images' at the surface, and "
+               "the clamp does not converge); lay the body out in layers parallel to the surface "
+               "(polar layers for a cylinder, see examples/lame)",
+               id, static_cast<tagint>(at[0]), at[1], surface.describe(), at[2]);
+  }
   comm_what = COMM_VOLUME;
   comm->forward_comm(this);
   comm_what = COMM_POSITION;
 }
 
 /* ----------------------------------------------------------------------
-   the body and its images make one particle layout only if the first
-   layer's images lie a spacing from their sources (the layer half a
-   spacing deep), as on a lattice plane on cell boundaries, polar layers about a
-   cylinder's axis, or a symmetric body's own half.  A lattice cut by the
-   surface at a slant or by a curve puts its rows' last particles anywhere
-   between 0 and a spacing from it: their cells overlap their images' (or
-   leave gaps), and the clamp did not converge (a beam clamped on a
-   cylinder whose lattice the arc cuts, against the FE continuum; cells
-   clipped at the arc did not help).  Refused.  The candidates reach twice
-   the mirrors' depth, so that the layers they hold have inward
-   neighbours.  Every rank holds the same gathered atoms: the error is
-   collective
+   the rank of the rendezvous cell (of size pairing.reach) around X
 ------------------------------------------------------------------------- */
 
-void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
-                                             const std::vector<double> &cands,
-                                             const std::vector<int> &source_index, double reach)
+int FixSPHMirror::rendezvous_rank(const double *X) const
 {
-  const SPHElastic::PointCells points(cands, NPACK, 1, reach);
+  uint64_t hash = 1469598103934665603ULL;    // FNV-1a over the cell's indices
+  for (int a = 0; a < 3; a++) {
+    const auto index = static_cast<long long>(std::floor(X[a] / pairing.reach));
+    hash = (hash ^ static_cast<uint64_t>(index)) * 1099511628211ULL;
+  }
+  return static_cast<int>(hash % static_cast<uint64_t>(comm->nprocs));
+}
+
+/* ----------------------------------------------------------------------
+   on a rendezvous rank: each mirror's source among the candidates within
+   the tolerance of its image, and whether the first layer and its image
+   lie a spacing apart (as on a lattice plane on cell boundaries, polar
+   layers about a cylinder's axis, or a symmetric body's own half).  A
+   lattice cut by the surface at a slant or by a curve puts its rows' last
+   particles anywhere between 0 and a spacing from it: their cells overlap
+   their images' (or leave gaps), and the clamp did not converge (a beam
+   clamped on a cylinder whose lattice the arc cuts, against the FE
+   continuum; cells clipped at the arc did not help).  Refused.  Every
+   candidate within a cell of the image is here.  Also the nearest two
+   candidates of this rank's cells (the layer spacing off lattice planes)
+------------------------------------------------------------------------- */
+
+int FixSPHMirror::match_in_rendezvous(int n, char *inbuf, int &flag, int *&procs, char *&outbuf,
+                                      void *ptr)
+{
+  auto *fix = static_cast<FixSPHMirror *>(ptr);
+  const auto *in = reinterpret_cast<const PairingDatum *>(inbuf);
+  const Pairing &pairing = fix->pairing;
+  const int me = fix->comm->me;
+  std::vector<double> cands;
+  std::vector<int> mirrors;
+  std::vector<char> home;
+  for (int k = 0; k < n; k++) {
+    if (in[k].kind == PairingDatum::MIRROR) {
+      mirrors.push_back(k);
+      continue;
+    }
+    cands.insert(cands.end(),
+                 {static_cast<double>(in[k].tag), in[k].X[0], in[k].X[1], in[k].X[2], in[k].volume,
+                  in[k].mass});
+    home.push_back(fix->rendezvous_rank(in[k].X) == me ? 1 : 0);
+  }
+  const SPHElastic::PointCells sources(cands, NPACK, 1, pairing.cell);
+  const SPHElastic::PointCells points(cands, NPACK, 1, pairing.reach);
+
+  double nearest2 = pairing.dmax * pairing.dmax;
+  for (int c = 0; c < points.size(); c++) {
+    if (!home[c]) continue;
+    const double *X = points.point(c);
+    points.visit_near(X, [&](int k) {
+      if (k == c) return true;
+      const double *Y = points.point(k);
+      nearest2 = std::min(nearest2,
+                          (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+                              (X[2] - Y[2]) * (X[2] - Y[2]));
+      return true;
+    });
+  }
+  fix->pairing.nearest = std::sqrt(nearest2);
+
   // the layer spacing along the normal: how far along the inward normal
   // the nearest body atom within 60 degrees of it lies (the next layer's,
   // on polar layers whatever its angular offset; on a lattice whose
@@ -476,41 +639,66 @@ void FixSPHMirror::require_images_at_spacing(const std::vector<double> &mirrors,
   auto spacing_at = [&](int c) {
     const double *X = points.point(c);
     double inward[3];
-    surface.normal(X, inward);
-    for (double &n : inward) n *= body_side;
-    double nearest2 = INFINITY, spacing = 0.0;
+    fix->surface.normal(X, inward);
+    for (double &v : inward) v *= fix->body_side;
+    double best2 = INFINITY, spacing = 0.0;
     points.visit_near(X, [&](int k) {
       if (k == c) return true;
       const double *Y = points.point(k);
       const double del[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
       const double d2 = del[0] * del[0] + del[1] * del[1] + del[2] * del[2];
       const double along = del[0] * inward[0] + del[1] * inward[1] + del[2] * inward[2];
-      if (along > 0.0 && along * along >= 0.25 * d2 && d2 < nearest2) {
-        nearest2 = d2;
+      if (along > 0.0 && along * along >= 0.25 * d2 && d2 < best2) {
+        best2 = d2;
         spacing = along;
       }
       return true;
     });
     return spacing;
   };
-  for (int g = 0; g < (int) mirrors.size() / NPACK; g++) {
-    const double gap = 2.0 * std::fabs(surface.signed_distance(&mirrors[g * NPACK + 1]));
-    const double spacing = spacing_at(source_index[g]);
-    if (spacing == 0.0) continue;    // the deepest layer of the band: nothing to judge by
+
+  const int nout = static_cast<int>(mirrors.size());
+  fix->memory->create(procs, std::max(nout, 1), "sph/mirror:procs");
+  outbuf = static_cast<char *>(
+      fix->memory->smalloc(std::max(nout, 1) * sizeof(PairingAnswer), "sph/mirror:answers"));
+  auto *out = reinterpret_cast<PairingAnswer *>(outbuf);
+  for (int m = 0; m < nout; m++) {
+    const PairingDatum &mirror = in[mirrors[m]];
+    PairingAnswer &answer = out[m];
+    answer.mirror = mirror.tag;
+    answer.source = -1;
+    answer.volume = answer.mass = answer.gap = answer.spacing = 0.0;
+    answer.misplaced = 0;
+    procs[m] = mirror.rank;
+    const double *want = mirror.X;
+    int found_at = -1;
+    // the source may sit in a neighbouring hash cell after round-off
+    sources.visit_near(want, [&](int c) {
+      const double *X = sources.point(c);
+      const double d2 = (X[0] - want[0]) * (X[0] - want[0]) + (X[1] - want[1]) * (X[1] - want[1]) +
+          (X[2] - want[2]) * (X[2] - want[2]);
+      if (d2 > pairing.tol * pairing.tol) return true;
+      found_at = c;
+      return false;
+    });
+    if (found_at < 0) continue;
+    answer.source = static_cast<tagint>(cands[found_at * NPACK]);
+    const double ratio = fix->surface.volume_ratio(&cands[found_at * NPACK + 1]);
+    answer.volume = ratio * cands[found_at * NPACK + 4];
+    answer.mass = ratio * cands[found_at * NPACK + 5];
     // the first layer and its image are a spacing apart; deeper layers
     // (two spacings or more) follow from it, and on curved layers their
-    // spacing along the normal is no longer the neighbours'
-    const double ratio = gap / spacing;
-    if (ratio >= 2.0 || std::fabs(ratio - 1.0) <= IMAGE_GAP_TOL) continue;
-    error->all(FLERR, Error::NOLASTLINE,
-               "Fix {} sph/mirror: mirror atom {} lies {:.6g} from its source across {}, where "
-               "the particle spacing is {:.6g}: the particles do not lie in layers parallel to "
-               "the surface, half a spacing from it. A lattice cut by the surface at a slant or "
-               "by a curve is not supported (its cells overlap their images' at the surface, and "
-               "the clamp does not converge); lay the body out in layers parallel to the surface "
-               "(polar layers for a cylinder, see examples/lame)",
-               id, (tagint) mirrors[g * NPACK], gap, surface.describe(), spacing);
+    // spacing along the normal is no longer the neighbours'; the deepest
+    // layer of the band has nothing to judge by (spacing 0)
+    answer.gap = 2.0 * std::fabs(fix->surface.signed_distance(mirror.Xm));
+    answer.spacing = spacing_at(found_at);
+    if (answer.spacing == 0.0) continue;
+    const double ratio_gap = answer.gap / answer.spacing;
+    if (ratio_gap >= 2.0 || std::fabs(ratio_gap - 1.0) <= IMAGE_GAP_TOL) continue;
+    answer.misplaced = 1;
   }
+  flag = 2;
+  return nout;
 }
 
 /* ----------------------------------------------------------------------
@@ -603,18 +791,18 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
 int FixSPHMirror::local_source(int i) const
 {
   const tagint itag = atom->tag[i];
-  const auto it = source.find(itag);
-  if (it == source.end())
+  const tagint source = source_tag[i];
+  if (source <= 0)
     error->one(FLERR, Error::NOLASTLINE,
                "Fix {} sph/mirror: atom {} joined group {} after setup; start a new run", id, itag,
                group->names[igroup]);
-  const int j = atom->map(it->second);
+  const int j = atom->map(source);
   if (j < 0)
     error->one(FLERR, Error::NOLASTLINE,
                "Fix {} sph/mirror: source atom {} of atom {} is beyond the ghost cut-off at step "
                "{}; set 'comm_modify cutoff <d>' with d at least twice the clamp depth plus the "
                "largest displacement and the neighbor skin",
-               id, it->second, itag, update->ntimestep);
+               id, source, itag, update->ntimestep);
   return domain->closest_image(i, j);
 }
 
@@ -693,6 +881,17 @@ void FixSPHMirror::place_mirrors(const double *u0)
 
 void FixSPHMirror::hand_over_forces()
 {
+  hand_over(atom->f, false);
+}
+
+/* ----------------------------------------------------------------------
+   T^T v of each mirror atom's per-atom vector v (owned atoms) added to its
+   source's and v zeroed at the mirror, as the forces are; with magnitude
+   the entries of T count by their size (a scale for round-off)
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::hand_over(double **values, bool magnitude)
+{
   const int nall = atom->nlocal + atom->nghost;
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
@@ -701,18 +900,18 @@ void FixSPHMirror::hand_over_forces()
   }
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
 
-  double **f = atom->f;
   double **x0 = atom->x0;
   double T[3][3];
   for (const auto &[i, j] : links) {
     tie(x0[i], T);
     for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) fsource[j][b] += T[a][b] * f[i][a];
-    for (int a = 0; a < 3; a++) f[i][a] = 0.0;
+      for (int b = 0; b < 3; b++)
+        fsource[j][b] += (magnitude ? std::fabs(T[a][b]) : T[a][b]) * values[i][a];
+    for (int a = 0; a < 3; a++) values[i][a] = 0.0;
   }
   comm->reverse_comm(this);
   for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) f[i][a] += fsource[i][a];
+    for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -798,6 +997,44 @@ void FixSPHMirror::unpack_reverse_comm(int n, int *list, double *buf)
 
 double FixSPHMirror::memory_usage()
 {
-  return (double) nmax * 3 * sizeof(double) +
-      (double) source.size() * (2 * sizeof(tagint) + 4 * sizeof(void *));
+  return (double) nmax * 3 * sizeof(double) + (double) atom->nmax * sizeof(tagint);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHMirror::grow_arrays(int n)
+{
+  memory->grow(source_tag, n, "sph/mirror:source_tag");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHMirror::copy_arrays(int i, int j, int /*delflag*/)
+{
+  source_tag[j] = source_tag[i];
+}
+
+/* ----------------------------------------------------------------------
+   an atom created after the pairing has no source until the next setup
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::set_arrays(int i)
+{
+  source_tag[i] = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHMirror::pack_exchange(int i, double *buf)
+{
+  buf[0] = ubuf(source_tag[i]).d;
+  return 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHMirror::unpack_exchange(int nlocal, double *buf)
+{
+  source_tag[nlocal] = (tagint) ubuf(buf[0]).i;
+  return 1;
 }

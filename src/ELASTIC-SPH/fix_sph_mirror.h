@@ -25,7 +25,6 @@ FixStyle(sph/mirror,FixSPHMirror);
 #include "sph_mirror_surface.h"
 
 #include <cmath>
-#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,8 +65,13 @@ class FixSPHMirror : public Fix {
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
-  // mirror atom ID -> source atom ID, the same on every rank
-  const std::map<tagint, tagint> &mirror_sources() const { return source; }
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  // true if owned atom i is a mirror atom this fix paired with a source
+  bool paired(int i) const { return source_tag[i] > 0; }
   // d x_mirror / d x_source along each axis: -1 (odd) or +1 (slip, tangential);
   // only for diagonal ties (a clamp, or a plane normal to x, y or z)
   double sign(int a) const { return mirror_sign[a]; }
@@ -88,14 +92,17 @@ class FixSPHMirror : public Fix {
   }
   // local index (owned or ghost copy) of the source of owned mirror atom i
   int local_source(int i) const;
+  // hand a per-atom vector of the owned atoms over from the mirrors to
+  // their sources as the forces are (T^T v; |T|^T v with magnitude)
+  void hand_over(double **values, bool magnitude);
 
  private:
-  SPHElastic::MirrorSurface surface;    // what the body is mirrored across
-  bool slip = false;                    // the tangential components slide
-  double mirror_sign[3];                // diagonal ties: -1 odd (clamped), +1 sliding
-  SPHElastic::EqualValues disp;         // prescribed displacement u0 of the plane
-  std::map<tagint, tagint> source;      // mirror atom ID -> source atom ID (all, on every rank)
-  double **fsource;                     // forces handed to sources, owned + ghost atoms
+  SPHElastic::MirrorSurface surface;         // what the body is mirrored across
+  bool slip = false;                         // the tangential components slide
+  double mirror_sign[3];                     // diagonal ties: -1 odd (clamped), +1 sliding
+  SPHElastic::EqualValues disp;              // prescribed displacement u0 of the plane
+  tagint *source_tag;                        // per atom: its source's ID (mirror atoms), else 0
+  double **fsource;                          // forces handed to sources, owned + ghost atoms
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
   int nmax;
   enum { COMM_POSITION, COMM_VOLUME };
@@ -113,9 +120,15 @@ class FixSPHMirror : public Fix {
   double body_side = 0.0;                 // +1: the body lies where the distance is > 0
   double layer_spacing = 0.0;             // the particle spacing next to the surface
 
-  void require_images_at_spacing(const std::vector<double> &mirrors,
-                                 const std::vector<double> &cands,
-                                 const std::vector<int> &source_index, double reach);
+  // the pairing meets mirrors and candidate sources in a rendezvous
+  // decomposition of space into cells of 'reach' (twice the mirrors'
+  // depth); these hold for its callback
+  struct Pairing {
+    double tol = 0.0, cell = 0.0, reach = 0.0, dmax = 0.0;
+    double nearest = 0.0;    // the callback's: nearest candidates of its cells
+  } pairing;
+  int rendezvous_rank(const double *X) const;
+  static int match_in_rendezvous(int, char *, int &, int *&, char *&, void *);
 };
 
 }    // namespace LAMMPS_NS

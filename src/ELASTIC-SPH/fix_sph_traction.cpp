@@ -75,14 +75,13 @@ constexpr double CUT_TOL = 0.4;
 // refused (6 particles through the body at h = 1.2 dx) or warned (8)
 constexpr double DEPTH_REFUSED = 2.5, DEPTH_WARNED = 3.5;
 
-// the fix sph/mirror that placed mirror atom i (nullptr if none paired it)
-const FixSPHMirror *mirror_owner(const std::vector<FixSPHMirror *> &mirrors, int atom_mask,
-                                 tagint tag)
+// the fix sph/mirror that placed owned mirror atom i (nullptr if none paired it)
+const FixSPHMirror *mirror_owner(const std::vector<FixSPHMirror *> &mirrors, int atom_mask, int i)
 {
   const FixSPHMirror *owner = nullptr;
   for (const auto *m : mirrors)
     if (atom_mask & m->groupbit) owner = m;
-  return (owner && owner->mirror_sources().count(tag)) ? owner : nullptr;
+  return (owner && owner->paired(i)) ? owner : nullptr;
 }
 }    // namespace
 
@@ -510,7 +509,7 @@ void FixSPHTraction::build_coefficients()
     // a mirror atom's share is its source's: taken where the source is in
     // the group, whichever groups the mirror atom itself is in
     const bool is_mirror = mask[i] & mirrorbits;
-    const FixSPHMirror *owner = is_mirror ? mirror_owner(mirrors, mask[i], tag[i]) : nullptr;
+    const FixSPHMirror *owner = is_mirror ? mirror_owner(mirrors, mask[i], i) : nullptr;
     if (is_mirror && !owner) continue;
     const int source = owner ? owner->local_source(i) : i;
     const bool takes = mask[source] & groupbit;

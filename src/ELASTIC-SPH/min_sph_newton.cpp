@@ -61,8 +61,8 @@ const double FD_RELATIVE = std::sqrt(DBL_EPSILON);
 
 MinSPHNewton::MinSPHNewton(LAMMPS *lmp) :
     MinLineSearch(lmp), pair(nullptr), dofs(new NewtonDofs(lmp)),
-    choice(new LinearSolverChoice(lmp)), nroundoff(0), roundoff_fnorm(0.0), fd_length(0.0),
-    nkrylov(0), nproducts(0)
+    choice(new LinearSolverChoice(lmp)), terms_vector(-1), nroundoff(0), roundoff_fnorm(0.0),
+    fd_length(0.0), nkrylov(0), nproducts(0)
 {
 }
 
@@ -77,6 +77,18 @@ void MinSPHNewton::init()
   MinLineSearch::init();
   check_style();
   solver = choice->make();
+}
+
+/* ----------------------------------------------------------------------
+   x0, g, h of the line search, and the free coordinates' terms of each
+   atom (NewtonDofs), which travel with it
+------------------------------------------------------------------------- */
+
+void MinSPHNewton::setup_style()
+{
+  MinLineSearch::setup_style();
+  terms_vector = 3 + 3 * nextra_atom;
+  fix_minimize->add_vector(NewtonDofs::WIDTH);
 }
 
 /* ----------------------------------------------------------------------
@@ -149,10 +161,11 @@ int MinSPHNewton::iterate(int maxiter)
 
 void MinSPHNewton::start()
 {
+  dofs->attach(fix_minimize, terms_vector);
   dofs->find(vflag);
   linearisation = std::make_unique<ICBLinearisation>(lmp, *pair);
   hessian = std::make_unique<FreeHessian>(atom, *linearisation, *dofs);
-  solver->reset(dofs->nfree());
+  solver->reset(dofs->nfree(), dofs->nrows(), dofs->first_row());
   operators = std::make_unique<HessianOperators>(lmp, *hessian, *solver);
   if (comm->me == 0) {
     utils::logmesg(lmp, "  min_style sph/newton: {} free coordinates, factorised by {}\n",
@@ -228,11 +241,11 @@ int MinSPHNewton::newton_loop(int maxiter)
 void MinSPHNewton::newton_step(double tol)
 {
   if (linearisation->hessian_is_exact() || solver->matrix_free()) {
-    dofs->free_force(force_share);
-    solver->solve(force_share, step);
+    dofs->free_force(force_rows);
+    solver->solve(force_rows, step);
     return;
   }
-  whole_free_force(residual);
+  free_force(residual);
   operators->newton_step(residual, step, tol);
 }
 
@@ -251,7 +264,7 @@ bool MinSPHNewton::saddle_point()
   if (!pair->has_energy()) return false;
   if (solver->indefinite()) return true;
   if (linearisation->hessian_is_exact() || solver->matrix_free()) return false;
-  return operators->negative_curvature(dofs->nfree());
+  return operators->negative_curvature();
 }
 
 /* ----------------------------------------------------------------------
@@ -308,13 +321,10 @@ double MinSPHNewton::forcing_term(double previous_eta, double fsq, double fsq_pr
 }
 
 /* ----------------------------------------------------------------------
-   the force on the free coordinates, summed over the ranks, on every rank
+   the force on the free coordinates, this rank's rows
 ------------------------------------------------------------------------- */
 
-void MinSPHNewton::whole_free_force(std::vector<double> &force)
+void MinSPHNewton::free_force(std::vector<double> &force)
 {
-  dofs->free_force(force_share);
-  force.resize(force_share.size());
-  MPI_Allreduce(force_share.data(), force.data(), static_cast<int>(force_share.size()), MPI_DOUBLE,
-                MPI_SUM, world);
+  dofs->free_force(force);
 }

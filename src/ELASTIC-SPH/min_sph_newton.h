@@ -74,15 +74,17 @@ class MinSPHNewton : public MinLineSearch {
   std::unique_ptr<SPHElastic::LinearSolverChoice> choice;
   std::unique_ptr<SPHElastic::LinearSolver> solver;
   std::unique_ptr<SPHElastic::HessianOperators> operators;
-  std::vector<double> force_share, step;    // on the free coordinates
-  int nroundoff;                            // line searches in a row that ended below round-off
-  double roundoff_fnorm;                    // |f|^2 when that run began
+  std::vector<double> force_rows, step;    // this rank's rows of them on the free coordinates
+  int terms_vector;                        // fix MINIMIZE's vector of the per-atom terms
+  int nroundoff;                           // line searches in a row that ended below round-off
+  double roundoff_fnorm;                   // |f|^2 when that run began
   // Newton-Krylov (stress corotated)
-  std::vector<double> residual;     // the whole free force at the iterate, on every rank
+  std::vector<double> residual;     // the free force at the iterate, this rank's rows
   std::vector<double> perturbed;    // the same at iterate + eps v
   double fd_length;                 // largest coordinate change of a difference product
   bigint nkrylov, nproducts;        // GMRES iterations on J v and its force calls, this run
 
+  void setup_style() override;
   void check_style();
   void start();
   int newton_loop(int);
@@ -97,7 +99,7 @@ class MinSPHNewton : public MinLineSearch {
   void jacobian_product(const std::vector<double> &v, std::vector<double> &jv);
   static double forcing_term(double previous_eta, double fsq, double fsq_previous);
   void pk1_inverse(const std::vector<double> &v, std::vector<double> &z);
-  void whole_free_force(std::vector<double> &force);
+  void free_force(std::vector<double> &force);
   bool force_below_ftol();
   int stop_or_output(bigint ntimestep, bool test_energy);
 };

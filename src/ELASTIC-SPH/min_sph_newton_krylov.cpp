@@ -86,9 +86,8 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
   const LinearMap preconditioner = [this](const std::vector<double> &v, std::vector<double> &z) {
     pk1_inverse(v, z);
   };
-  whole_free_force(residual);
-  double phi = 0.0, phi_previous = 0.0, eta = ETA_MAX;
-  for (double value : residual) phi += value * value;
+  free_force(residual);
+  double phi = dofs->dot(residual, residual), phi_previous = 0.0, eta = ETA_MAX;
 
   for (int iter = 0; iter < maxiter; iter++) {
     if (timer->check_timeout(niter)) return TIMEOUT;
@@ -102,7 +101,7 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
     fix_minimize->store_box();
     solver->assemble(*hessian);
     const KrylovResult krylov =
-        flexible_gmres(jacobian, preconditioner, residual, step, eta, MAXKRYLOV);
+        flexible_gmres(jacobian, preconditioner, residual, step, eta, MAXKRYLOV, world);
     nkrylov += krylov.iterations;
     dofs->expand(step, h);
 
@@ -110,8 +109,7 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
     phi_previous = phi;
     const int fail = residual_line_search(phi, std::min(krylov.residual, 1.0));
     if (fail) return fail;
-    phi = 0.0;
-    for (double value : residual) phi += value * value;
+    phi = dofs->dot(residual, residual);
 
     // no energy: etol has nothing to test
     if (const int stop = stop_or_output(ntimestep, false)) return stop;
@@ -127,15 +125,16 @@ int MinSPHNewton::newton_krylov_loop(int maxiter)
 
 void MinSPHNewton::jacobian_product(const std::vector<double> &v, std::vector<double> &jv)
 {
-  double vmax = 0.0;
-  for (double value : v) vmax = std::max(vmax, std::fabs(value));
+  double vmax_mine = 0.0, vmax = 0.0;
+  for (double value : v) vmax_mine = std::max(vmax_mine, std::fabs(value));
+  MPI_Allreduce(&vmax_mine, &vmax, 1, MPI_DOUBLE, MPI_MAX, world);
   jv.assign(v.size(), 0.0);
   if (vmax == 0.0) return;
   const double eps = fd_length / vmax;
   dofs->expand(v, h);
   alpha_step(eps, 1);
   nproducts++;
-  whole_free_force(perturbed);
+  free_force(perturbed);
   for (size_t k = 0; k < v.size(); k++) jv[k] = (residual[k] - perturbed[k]) / eps;
 }
 

@@ -23,6 +23,7 @@
 #include "error.h"
 #include "fix_minimize.h"
 #include "pair_sph_icb.h"
+#include "sph_newton_dofs.h"
 
 #include <cmath>
 
@@ -153,9 +154,8 @@ int MinSPHNewton::residual_line_search(double phi0, double eta)
       alpha *= 0.5;
       continue;
     }
-    whole_free_force(residual);
-    double phi = 0.0;
-    for (double value : residual) phi += value * value;
+    free_force(residual);
+    const double phi = dofs->dot(residual, residual);
     if (phi <= (1.0 - 2.0 * ARMIJO * alpha * (1.0 - eta)) * phi0) {
       alpha_final = alpha;
       return 0;
@@ -168,6 +168,6 @@ int MinSPHNewton::residual_line_search(double phi0, double eta)
                                             "round-off floor, or the Jacobian's differences are "
                                             "too coarse for it",
                                             sqrt(phi0)));
-  whole_free_force(residual);
+  free_force(residual);
   return stop;
 }

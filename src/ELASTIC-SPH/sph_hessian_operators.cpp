@@ -13,12 +13,14 @@
 
 #include "sph_hessian_operators.h"
 
+#include "atom.h"
 #include "comm.h"
 #include "sph_linear_solver.h"
+#include "sph_newton_dofs.h"
 #include "sph_newton_hessian.h"
 
 #include <cmath>
-#include <random>
+#include <cstdint>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
@@ -36,6 +38,17 @@ constexpr int MAXKRYLOV_APPROXIMATE = 60;
 // LANCZOS_TOL of itself, at most MAXLANCZOS products
 constexpr double LANCZOS_TOL = 1.0e-3;
 constexpr int MAXLANCZOS = 100;
+
+// a value in [-1, 1) fixed by an atom ID and a component (splitmix64):
+// the start of Lanczos, the same on any number of ranks
+double uniform_of(tagint id, int a)
+{
+  uint64_t z = static_cast<uint64_t>(id) * 4 + static_cast<uint64_t>(a) + 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return 2.0 * static_cast<double>(z >> 11) * 0x1.0p-53 - 1.0;
+}
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -46,22 +59,12 @@ HessianOperators::HessianOperators(LAMMPS *lmp, const FreeHessian &hessian, Line
 }
 
 /* ----------------------------------------------------------------------
-   hv = H v on the free coordinates by the linearisation's exact product,
-   whole vectors on every rank
+   hv = H v on the free coordinates by the linearisation's exact product
 ------------------------------------------------------------------------- */
 
 void HessianOperators::product(const std::vector<double> &v, std::vector<double> &hv)
 {
-  share.assign(v.size(), 0.0);
-  hessian.product(
-      [&](int r) {
-        return v[r];
-      },
-      [&](int r, double value) {
-        share[r] += value;
-      });
-  hv.resize(v.size());
-  MPI_Allreduce(share.data(), hv.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, world);
+  hessian.product(v, hv);
   nproducts++;
 }
 
@@ -69,13 +72,7 @@ void HessianOperators::product(const std::vector<double> &v, std::vector<double>
 
 void HessianOperators::precondition(const std::vector<double> &v, std::vector<double> &z)
 {
-  // the solver sums its right-hand side over the ranks: rank 0 gives all of it
-  if (comm->me == 0)
-    solver.solve(v, z);
-  else {
-    share.assign(v.size(), 0.0);
-    solver.solve(share, z);
-  }
+  solver.solve(v, z);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -84,13 +81,11 @@ void HessianOperators::newton_step(const std::vector<double> &force, std::vector
                                    double tol)
 {
   const KrylovResult krylov =
-      flexible_gmres(product_map(), precondition_map(), force, step, tol, MAXKRYLOV_PRODUCT);
+      flexible_gmres(product_map(), precondition_map(), force, step, tol, MAXKRYLOV_PRODUCT, world);
   nkrylov += krylov.iterations;
   // where H is indefinite GMRES may return an uphill step; the factorised
   // matrix was made positive definite by the solver, so its step is downhill
-  double fdotstep = 0.0;
-  for (size_t k = 0; k < step.size(); k++) fdotstep += force[k] * step[k];
-  if (fdotstep <= 0.0) precondition(force, step);
+  if (hessian.free_coordinates().dot(force, step) <= 0.0) precondition(force, step);
 }
 
 /* ----------------------------------------------------------------------
@@ -101,7 +96,7 @@ void HessianOperators::newton_step(const std::vector<double> &force, std::vector
 void HessianOperators::approximate_inverse(const std::vector<double> &v, std::vector<double> &z)
 {
   const KrylovResult krylov = flexible_gmres(product_map(), precondition_map(), v, z,
-                                             APPROXIMATE_INVERSE_TOL, MAXKRYLOV_APPROXIMATE);
+                                             APPROXIMATE_INVERSE_TOL, MAXKRYLOV_APPROXIMATE, world);
   nkrylov += krylov.iterations;
 }
 
@@ -111,15 +106,18 @@ void HessianOperators::approximate_inverse(const std::vector<double> &v, std::ve
    along an antisymmetric buckling mode
 ------------------------------------------------------------------------- */
 
-bool HessianOperators::negative_curvature(int nfree)
+bool HessianOperators::negative_curvature()
 {
-  // the same start on every rank, and on any number of ranks
-  std::vector<double> start(nfree);
-  std::mt19937 generator(12345);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  for (double &value : start) value = uniform(generator);
+  // a start fixed by the atoms, whichever rank holds them
+  std::vector<double> start;
+  const tagint *tag = atom->tag;
+  hessian.free_coordinates().fill(
+      [&](int i, int a) {
+        return uniform_of(tag[i], a);
+      },
+      start);
   const EigenvalueEstimate estimate =
-      lowest_eigenvalue(product_map(), precondition_map(), start, LANCZOS_TOL, MAXLANCZOS);
+      lowest_eigenvalue(product_map(), precondition_map(), start, LANCZOS_TOL, MAXLANCZOS, world);
   if (comm->me == 0)
     utils::logmesg(lmp,
                    "  min_style sph/newton: hourglass control: smallest eigenvalue of the exact "

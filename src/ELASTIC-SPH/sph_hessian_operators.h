@@ -26,7 +26,7 @@ namespace SPHElastic {
 
   /* ----------------------------------------------------------------------
      the operators min_style sph/newton's Krylov solves are built from, on
-     the free coordinates (whole vectors on every rank): the exact Hessian
+     the free coordinates (each rank its rows of the vectors): the exact Hessian
      product, the inverse of the factorised matrix, and what they make
      together where the factorised matrix is not the exact Hessian (with
      hourglass control it is only its spring part): the Newton step by
@@ -48,7 +48,7 @@ namespace SPHElastic {
     void approximate_inverse(const std::vector<double> &v, std::vector<double> &z);
     // true if Lanczos on the exact products, in K's metric, finds a
     // negative eigenvalue of H; logs its estimate
-    bool negative_curvature(int nfree);
+    bool negative_curvature();
     LinearMap product_map();
     LinearMap precondition_map();
 
@@ -58,7 +58,6 @@ namespace SPHElastic {
    private:
     const FreeHessian &hessian;
     LinearSolver &solver;
-    std::vector<double> share;    // this rank's share of a product or right-hand side
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS

@@ -26,11 +26,13 @@ using namespace LAMMPS_NS;
 using namespace SPHElastic;
 
 namespace {
-double dot(const std::vector<double> &a, const std::vector<double> &b)
+// over all ranks' rows
+double dot(const std::vector<double> &a, const std::vector<double> &b, MPI_Comm world)
 {
-  double sum = 0.0;
+  double sum = 0.0, all = 0.0;
   for (size_t k = 0; k < a.size(); k++) sum += a[k] * b[k];
-  return sum;
+  MPI_Allreduce(&sum, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }
 }    // namespace
 
@@ -42,11 +44,11 @@ double dot(const std::vector<double> &a, const std::vector<double> &b)
 
 KrylovResult SPHElastic::flexible_gmres(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
                                         const std::vector<double> &b, std::vector<double> &x,
-                                        double tol, int maxiter)
+                                        double tol, int maxiter, MPI_Comm world)
 {
   const size_t n = b.size();
   x.assign(n, 0.0);
-  const double bnorm = std::sqrt(dot(b, b));
+  const double bnorm = std::sqrt(dot(b, b, world));
   if (bnorm == 0.0 || maxiter < 1) return {0, bnorm == 0.0 ? 0.0 : 1.0, bnorm == 0.0};
 
   std::vector<std::vector<double>> v(1, b), z;
@@ -63,10 +65,10 @@ KrylovResult SPHElastic::flexible_gmres(const LinearMap &apply_a, const LinearMa
     apply_a(z[k], w);
     std::vector<double> hk(k + 2);
     for (int i = 0; i <= k; i++) {
-      hk[i] = dot(w, v[i]);
+      hk[i] = dot(w, v[i], world);
       for (size_t e = 0; e < n; e++) w[e] -= hk[i] * v[i][e];
     }
-    hk[k + 1] = std::sqrt(dot(w, w));
+    hk[k + 1] = std::sqrt(dot(w, w, world));
     for (int i = 0; i < k; i++) {
       const double upper = cs[i] * hk[i] + sn[i] * hk[i + 1];
       hk[i + 1] = -sn[i] * hk[i] + cs[i] * hk[i + 1];
@@ -113,12 +115,12 @@ KrylovResult SPHElastic::flexible_gmres(const LinearMap &apply_a, const LinearMa
 EigenvalueEstimate SPHElastic::lowest_eigenvalue(const LinearMap &apply_a,
                                                  const LinearMap &apply_m_inverse,
                                                  const std::vector<double> &start, double tol,
-                                                 int maxiter)
+                                                 int maxiter, MPI_Comm world)
 {
   const size_t n = start.size();
   std::vector<double> r(start), z(n), u(n), p(n), p_previous(n, 0.0), w(n);
   apply_m_inverse(r, z);
-  double beta = std::sqrt(std::max(dot(r, z), 0.0));
+  double beta = std::sqrt(std::max(dot(r, z, world), 0.0));
   std::vector<double> alphas, betas;
   EigenvalueEstimate estimate{0, 0.0, 0.0};
   double previous_lowest = 0.0;
@@ -130,13 +132,13 @@ EigenvalueEstimate SPHElastic::lowest_eigenvalue(const LinearMap &apply_a,
     }
     apply_a(u, w);
     estimate.iterations++;
-    const double alpha = dot(u, w);
+    const double alpha = dot(u, w, world);
     for (size_t e = 0; e < n; e++) r[e] = w[e] - alpha * p[e] - beta * p_previous[e];
     if (!alphas.empty()) betas.push_back(beta);
     alphas.push_back(alpha);
     p_previous.swap(p);
     apply_m_inverse(r, z);
-    beta = std::sqrt(std::max(dot(r, z), 0.0));
+    beta = std::sqrt(std::max(dot(r, z, world), 0.0));
 
     const Eigen::VectorXd diagonal =
         Eigen::Map<const Eigen::VectorXd>(alphas.data(), (Eigen::Index) alphas.size());

@@ -14,14 +14,16 @@
 #ifndef LMP_SPH_KRYLOV_H
 #define LMP_SPH_KRYLOV_H
 
+#include <mpi.h>
+
 #include <functional>
 #include <vector>
 
 namespace LAMMPS_NS {
 namespace SPHElastic {
 
-  // y = A x for vectors on the free coordinates; every rank holds the whole
-  // vector, and the maps return the same y on every rank
+  // y = A x for vectors on the free coordinates; every rank holds its rows
+  // of them (its slice), and the maps are collective
   using LinearMap = std::function<void(const std::vector<double> &x, std::vector<double> &y)>;
 
   struct KrylovResult {
@@ -35,13 +37,13 @@ namespace SPHElastic {
      approximate inverse M^-1 that may change from one application to the
      next (an inner iterative solve), without restarts: stops when the
      residual is below tol |b| or after maxiter products.  x starts at 0.
-     Works on whole vectors held alike on every rank, so it needs no
-     communication of its own: A and M^-1 do what is needed.
+     Works on each rank's rows of the vectors: its dot products are summed
+     over world; A and M^-1 do the rest of the communication.
   ------------------------------------------------------------------------- */
 
   KrylovResult flexible_gmres(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
                               const std::vector<double> &b, std::vector<double> &x, double tol,
-                              int maxiter);
+                              int maxiter, MPI_Comm world);
 
   struct EigenvalueEstimate {
     int iterations;    // products with A
@@ -55,11 +57,12 @@ namespace SPHElastic {
      inner product from the vector start.  Ritz values bound the smallest
      eigenvalue from above, so a negative one proves A indefinite: it stops
      there, or when the smallest Ritz value changes by less than tol of
-     itself, or after maxiter products.
+     itself, or after maxiter products.  Vectors as for flexible_gmres.
   ------------------------------------------------------------------------- */
 
   EigenvalueEstimate lowest_eigenvalue(const LinearMap &apply_a, const LinearMap &apply_m_inverse,
-                                       const std::vector<double> &start, double tol, int maxiter);
+                                       const std::vector<double> &start, double tol, int maxiter,
+                                       MPI_Comm world);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 

@@ -28,7 +28,10 @@ namespace SPHElastic {
      what min_style sph/newton asks of a linear solver: assemble the
      Hessian on the free coordinates and solve K step = force for a step
      that points downhill (force . step > 0), modifying K where it is not
-     positive definite.  Every call is collective over all ranks.
+     positive definite.  Every call is collective over all ranks.  Vectors
+     on the free coordinates are each rank's rows of them: rank p holds the
+     rows [first_row, first_row + nrows), the ranks' rows in rank order make
+     the whole vector (NewtonDofs).
   ------------------------------------------------------------------------- */
 
   class LinearSolver : protected Pointers {
@@ -38,18 +41,18 @@ namespace SPHElastic {
 
     // for the log: which solver and how
     virtual std::string name() const = 0;
-    // a new problem of nfree unknowns (the free coordinates were numbered
-    // afresh): forget the matrix, its pattern and its factorisation
-    virtual void reset(int nfree) = 0;
+    // a new problem of nfree unknowns, nrows of them this rank's from
+    // first_row on (the free coordinates were numbered afresh): forget the
+    // matrix, its pattern and its factorisation
+    virtual void reset(int nfree, int nrows, int first_row) = 0;
     // K from the Hessian at the current positions (a matrix-free backend
     // keeps the reference: it stays valid until the next assemble())
     virtual void assemble(const FreeHessian &) = 0;
-    // the step from this rank's share of the force (length nfree, the
-    // shares summing to the force); step (length nfree) is the same on
-    // every rank afterwards.  Further solves before the next assemble()
-    // reuse the factorisation (or preconditioner) of the first: Newton-
-    // Krylov applies K^-1 to many vectors
-    virtual void solve(const std::vector<double> &force_share, std::vector<double> &step) = 0;
+    // the step from the force, both this rank's rows.  Further solves
+    // before the next assemble() reuse the factorisation (or
+    // preconditioner) of the first: Newton-Krylov applies K^-1 to many
+    // vectors
+    virtual void solve(const std::vector<double> &force, std::vector<double> &step) = 0;
     // the relative residual at which an iterative solver may stop the
     // solves that follow (an inexact Newton step); a direct one ignores it
     virtual void set_tolerance(double /*relative*/) {}

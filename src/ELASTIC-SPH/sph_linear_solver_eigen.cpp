@@ -196,8 +196,8 @@ struct EigenLinearSolver::Matrices {
 /* ---------------------------------------------------------------------- */
 
 EigenLinearSolver::EigenLinearSolver(LAMMPS *lmp, bool cholmod) :
-    LinearSolver(lmp), m(new Matrices), use_cholmod(cholmod && have_cholmod()), n(0), nassembly(0),
-    nreused(0), negative_pivots(false)
+    LinearSolver(lmp), m(new Matrices), use_cholmod(cholmod && have_cholmod()), n(0), nrows(0),
+    nassembly(0), nreused(0), negative_pivots(false)
 {
 }
 
@@ -225,10 +225,17 @@ std::string EigenLinearSolver::name() const
 
 /* ---------------------------------------------------------------------- */
 
-void EigenLinearSolver::reset(int nfree)
+void EigenLinearSolver::reset(int nfree, int nrows_mine, int first_row)
 {
   n = nfree;
-  rhs.assign(n, 0.0);
+  nrows = nrows_mine;
+  const int me = comm->me;
+  rhs.assign(me == 0 ? n : 0, 0.0);
+  whole.assign(me == 0 ? n : 0, 0.0);
+  counts.assign(me == 0 ? comm->nprocs : 0, 0);
+  displs.assign(me == 0 ? comm->nprocs : 0, 0);
+  MPI_Gather(&nrows, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, world);
+  MPI_Gather(&first_row, 1, MPI_INT, displs.data(), 1, MPI_INT, 0, world);
   m->forget_pattern();
   nassembly = nreused = 0;
   negative_pivots = false;
@@ -263,27 +270,29 @@ std::string EigenLinearSolver::summary() const
 }
 
 /* ----------------------------------------------------------------------
-   the force summed on rank 0; the step by CHOLMOD where K is positive
-   definite, by LDL^T (shifted if need be) otherwise; broadcast
+   the force gathered on rank 0; the step by CHOLMOD where K is positive
+   definite, by LDL^T (shifted if need be) otherwise; each rank its rows
 ------------------------------------------------------------------------- */
 
-void EigenLinearSolver::solve(const std::vector<double> &force_share, std::vector<double> &step)
+void EigenLinearSolver::solve(const std::vector<double> &force, std::vector<double> &step)
 {
-  step.assign(n, 0.0);
-  MPI_Reduce(force_share.data(), rhs.data(), n, MPI_DOUBLE, MPI_SUM, 0, world);
+  step.assign(nrows, 0.0);
+  MPI_Gatherv(force.data(), nrows, MPI_DOUBLE, rhs.data(), counts.data(), displs.data(), MPI_DOUBLE,
+              0, world);
   int flag = 0;
   if (comm->me == 0) {
     auto rhs_vec = Eigen::Map<const Eigen::VectorXd>(rhs.data(), n);
-    auto step_vec = Eigen::Map<Eigen::VectorXd>(step.data(), n);
+    auto step_vec = Eigen::Map<Eigen::VectorXd>(whole.data(), n);
     if (m->factor != Matrices::NONE)
       m->solve_again(rhs_vec, step_vec);
     else if (use_cholmod && m->positive_definite_step(rhs_vec, step_vec))
       negative_pivots = false;
     else
-      solve_with_ldlt(step);
+      solve_with_ldlt(whole);
     flag = negative_pivots ? 1 : 0;
   }
-  MPI_Bcast(step.data(), n, MPI_DOUBLE, 0, world);
+  MPI_Scatterv(whole.data(), counts.data(), displs.data(), MPI_DOUBLE, step.data(), nrows,
+               MPI_DOUBLE, 0, world);
   MPI_Bcast(&flag, 1, MPI_INT, 0, world);
   negative_pivots = flag != 0;
 }

@@ -26,7 +26,10 @@ namespace SPHElastic {
      there and factorised by CHOLMOD's supernodal LL^T (if built with it),
      or by Eigen's SimplicialLDLT where that fails or is asked for, the
      diagonal shifted until the factorisation is usable.  Memory and time
-     grow on rank 0 only: a backend for one node.
+     grow on rank 0 only: a backend for one node.  Rank 0 gathers the
+     whole matrix and right-hand side (that is what a direct solve on one
+     rank is) and hands each rank its rows of the step; the bookkeeping of
+     the free coordinates stays distributed.
   ------------------------------------------------------------------------- */
 
   class EigenLinearSolver : public LinearSolver {
@@ -38,9 +41,9 @@ namespace SPHElastic {
     static bool have_cholmod();
 
     std::string name() const override;
-    void reset(int nfree) override;
+    void reset(int nfree, int nrows, int first_row) override;
     void assemble(const FreeHessian &) override;
-    void solve(const std::vector<double> &force_share, std::vector<double> &step) override;
+    void solve(const std::vector<double> &force, std::vector<double> &step) override;
     bool indefinite() const override { return negative_pivots; }
     std::string summary() const override;
 
@@ -48,10 +51,12 @@ namespace SPHElastic {
     struct Matrices;    // Eigen's matrix and factorisations (rank 0)
     std::unique_ptr<Matrices> m;
     bool use_cholmod;
-    int n;                      // unknowns
-    std::vector<double> rhs;    // the force, summed on rank 0
-    int nassembly, nreused;     // Hessians since reset(), and those added into K's pattern
-    bool negative_pivots;       // the last unshifted K had negative pivots
+    int n;                              // unknowns
+    int nrows;                          // of them this rank's
+    std::vector<double> rhs, whole;     // the force and the step on rank 0
+    std::vector<int> counts, displs;    // the ranks' rows, on rank 0
+    int nassembly, nreused;             // Hessians since reset(), and those added into K's pattern
+    bool negative_pivots;               // the last unshifted K had negative pivots
 
     void collect_entries(const FreeHessian &);
     bool add_into_pattern(const FreeHessian &);

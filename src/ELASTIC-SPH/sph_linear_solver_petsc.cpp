@@ -125,17 +125,12 @@ struct PetscLinearSolver::Objects {
   bool compact = false;    // matrix-free on a lattice: the compact matrix and aggregation
   Mat interpolation = nullptr;    // of the two-level multigrid on the compact matrix
   Mat shell = nullptr;            // matrix-free: the Hessian as its product
-  Vec rhs = nullptr, x = nullptr, x_all = nullptr;
-  VecScatter to_all = nullptr;
+  Vec rhs = nullptr, x = nullptr;
   KSP ksp = nullptr;
-  // matrix-free: the free coordinates this rank's atoms follow, their
-  // values gathered for a product, and the product's entries
+  // matrix-free: the Hessian whose product the shell is, and this rank's
+  // rows of a vector and its product (PETSc's layout is NewtonDofs's)
   const FreeHessian *hessian = nullptr;
-  std::vector<int> needed;
-  Vec v_needed = nullptr;
-  VecScatter to_needed = nullptr;
-  std::vector<PetscInt> product_rows;
-  std::vector<PetscScalar> product_values;
+  std::vector<double> v_rows, y_rows;
   double shell_shift = 0.0;
   long nproducts = 0;    // K v by the pair
   // matrix-free: the preconditioner is built from the compact matrix of
@@ -149,20 +144,12 @@ struct PetscLinearSolver::Objects {
   {
     if (ksp) KSPDestroy(&ksp);
     if (interpolation) MatDestroy(&interpolation);
-    if (to_all) VecScatterDestroy(&to_all);
-    if (x_all) VecDestroy(&x_all);
     if (x) VecDestroy(&x);
     if (rhs) VecDestroy(&rhs);
     if (shell) MatDestroy(&shell);
   }
-  void destroy_needed()
-  {
-    if (to_needed) VecScatterDestroy(&to_needed);
-    if (v_needed) VecDestroy(&v_needed);
-  }
   void destroy()
   {
-    destroy_needed();
     destroy_layout();
     assembled.destroy();
     rebuild_preconditioner = true;
@@ -191,9 +178,9 @@ static void petsc_check(Error *error, PetscErrorCode code, const char *what)
 /* ---------------------------------------------------------------------- */
 
 PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
-    LinearSolver(lmp), p(new Objects), method(method), n(0), negative_curvature(false), nsolve(0),
-    niterations(0), nshifted(0), nminres(0), nbuild(0), naggregates(0), ncoarse(0), tolerance(RTOL),
-    setup_time(0.0), solve_time(0.0)
+    LinearSolver(lmp), p(new Objects), method(method), n(0), nrows(0), first(0),
+    negative_curvature(false), nsolve(0), niterations(0), nshifted(0), nminres(0), nbuild(0),
+    naggregates(0), ncoarse(0), tolerance(RTOL), setup_time(0.0), solve_time(0.0)
 {
   PetscBool initialized = PETSC_FALSE;
   PetscInitialized(&initialized);
@@ -242,10 +229,12 @@ void PetscLinearSolver::set_tolerance(double relative)
 
 /* ---------------------------------------------------------------------- */
 
-void PetscLinearSolver::reset(int nfree)
+void PetscLinearSolver::reset(int nfree, int nrows_mine, int first_row)
 {
   p->destroy();
   n = nfree;
+  nrows = nrows_mine;
+  first = first_row;
   negative_curvature = false;
   nsolve = niterations = nshifted = nminres = nbuild = 0;
   p->nproducts = 0;
@@ -253,8 +242,8 @@ void PetscLinearSolver::reset(int nfree)
 }
 
 /* ----------------------------------------------------------------------
-   the rows of the free coordinates are split among the ranks in blocks,
-   as PETSc's default layout does.  MUMPS: the Hessian's entries, with an
+   each rank owns the rows of the free coordinates it numbered (those of
+   its atoms when the minimization started).  MUMPS: the Hessian's entries, with an
    explicit diagonal on the rows a rank owns (a shift needs it).  Matrix
    free: the Hessian is a shell whose product the pair computes; the
    compact matrix and its near-null space make the preconditioner, built
@@ -272,15 +261,6 @@ void PetscLinearSolver::assemble(const FreeHessian &hessian)
 
   if (method == MATRIX_FREE) {
     o.hessian = &hessian;
-    // atoms may have moved between ranks since the last iteration
-    o.destroy_needed();
-    o.needed = hessian.needed_indices();
-    IS wanted;
-    ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), o.needed.data(),
-                    PETSC_COPY_VALUES, &wanted);
-    VecCreateSeq(PETSC_COMM_SELF, static_cast<PetscInt>(o.needed.size()), &o.v_needed);
-    VecScatterCreate(o.x, wanted, o.v_needed, nullptr, &o.to_needed);
-    ISDestroy(&wanted);
     // the multigrid hierarchy now (its smoothers may multiply by K), so
     // that its time counts as setup
     if (build) KSPSetUp(o.ksp);
@@ -298,11 +278,7 @@ void PetscLinearSolver::assemble_matrix(const FreeHessian &hessian)
   Objects &o = *p;
   Lattice lattice;
   if (method == MATRIX_FREE) o.compact = find_lattice(hessian, lattice);
-  PetscInt nlocal = PETSC_DECIDE, global = n;
-  PetscSplitOwnership(world, &nlocal, &global);
-  PetscInt first = 0;
-  MPI_Scan(&nlocal, &first, 1, MPIU_INT, MPI_SUM, world);
-  first -= nlocal;
+  const PetscInt nlocal = nrows;
 
   CooMatrix &coo = o.assembled;
   auto add = [&](int row, int col, double value) {
@@ -326,7 +302,6 @@ void PetscLinearSolver::assemble_matrix(const FreeHessian &hessian)
       MatSetOption(o.shell, MAT_SYMMETRIC, PETSC_TRUE);
     }
     MatCreateVecs(o.assembled.M, &o.x, &o.rhs);
-    VecScatterCreateToAll(o.x, &o.to_all, &o.x_all);
   }
   // a multigrid hierarchy is built afresh with its solver
   if (!o.ksp || method == MATRIX_FREE) {
@@ -497,8 +472,8 @@ void PetscLinearSolver::create_solver()
 }
 
 /* ----------------------------------------------------------------------
-   y = K v + shift v: v's entries that this rank's atoms follow are
-   gathered, the pair multiplies, and each rank adds its share of y
+   y = K v + shift v: PETSc's rows of v are the Hessian's (NewtonDofs),
+   which exchanges the rows other ranks' atoms follow
 ------------------------------------------------------------------------- */
 
 static PetscErrorCode shell_product(Mat K, Vec v, Vec y)
@@ -506,26 +481,17 @@ static PetscErrorCode shell_product(Mat K, Vec v, Vec y)
   PetscLinearSolver::Objects *o = nullptr;
   MatShellGetContext(K, &o);
   o->nproducts++;
-  VecScatterBegin(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(o->to_needed, v, o->v_needed, INSERT_VALUES, SCATTER_FORWARD);
-  const PetscScalar *gathered;
-  VecGetArrayRead(o->v_needed, &gathered);
-  const auto &needed = o->needed;
-  auto value = [&](int r) {
-    return gathered[std::lower_bound(needed.begin(), needed.end(), r) - needed.begin()];
-  };
-  o->product_rows.clear();
-  o->product_values.clear();
-  o->hessian->product(value, [&](int r, double share) {
-    o->product_rows.push_back(r);
-    o->product_values.push_back(share);
-  });
-  VecRestoreArrayRead(o->v_needed, &gathered);
-  VecSet(y, 0.0);
-  VecSetValues(y, static_cast<PetscInt>(o->product_rows.size()), o->product_rows.data(),
-               o->product_values.data(), ADD_VALUES);
-  VecAssemblyBegin(y);
-  VecAssemblyEnd(y);
+  PetscInt nrows = 0;
+  VecGetLocalSize(v, &nrows);
+  const PetscScalar *in;
+  VecGetArrayRead(v, &in);
+  o->v_rows.assign(in, in + nrows);
+  VecRestoreArrayRead(v, &in);
+  o->hessian->product(o->v_rows, o->y_rows);
+  PetscScalar *out;
+  VecGetArray(y, &out);
+  std::copy(o->y_rows.begin(), o->y_rows.end(), out);
+  VecRestoreArray(y, &out);
   if (o->shell_shift != 0.0) VecAXPY(y, o->shell_shift, v);
   return 0;
 }
@@ -593,15 +559,14 @@ void PetscLinearSolver::shift_diagonal(double amount)
    the diagonal is shifted until CG's step points downhill.
 ------------------------------------------------------------------------- */
 
-void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vector<double> &step)
+void PetscLinearSolver::solve(const std::vector<double> &force, std::vector<double> &step)
 {
   const double start = MPI_Wtime();
   Objects &o = *p;
-  VecSet(o.rhs, 0.0);
-  for (int r = 0; r < n; r++)
-    if (force_share[r] != 0.0) VecSetValue(o.rhs, r, force_share[r], ADD_VALUES);
-  VecAssemblyBegin(o.rhs);
-  VecAssemblyEnd(o.rhs);
+  PetscScalar *rhs;
+  VecGetArray(o.rhs, &rhs);
+  std::copy(force.begin(), force.begin() + nrows, rhs);
+  VecRestoreArray(o.rhs, &rhs);
 
   negative_curvature = false;
   bool done = solve_with(method == MUMPS ? KSPPREONLY : KSPCG);
@@ -662,12 +627,10 @@ void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vecto
   }
   nsolve++;
 
-  VecScatterBegin(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
-  VecScatterEnd(o.to_all, o.x, o.x_all, INSERT_VALUES, SCATTER_FORWARD);
-  const PetscScalar *all;
-  VecGetArrayRead(o.x_all, &all);
-  step.assign(all, all + n);
-  VecRestoreArrayRead(o.x_all, &all);
+  const PetscScalar *mine;
+  VecGetArrayRead(o.x, &mine);
+  step.assign(mine, mine + nrows);
+  VecRestoreArrayRead(o.x, &mine);
   solve_time += MPI_Wtime() - start;
 }
 
@@ -676,9 +639,9 @@ void PetscLinearSolver::solve(const std::vector<double> &force_share, std::vecto
 struct PetscLinearSolver::Objects {};
 
 PetscLinearSolver::PetscLinearSolver(LAMMPS *lmp, Method method) :
-    LinearSolver(lmp), method(method), n(0), negative_curvature(false), nsolve(0), niterations(0),
-    nshifted(0), nminres(0), nbuild(0), naggregates(0), ncoarse(0), tolerance(0.0), setup_time(0.0),
-    solve_time(0.0)
+    LinearSolver(lmp), method(method), n(0), nrows(0), first(0), negative_curvature(false),
+    nsolve(0), niterations(0), nshifted(0), nminres(0), nbuild(0), naggregates(0), ncoarse(0),
+    tolerance(0.0), setup_time(0.0), solve_time(0.0)
 {
   error->all(FLERR, Error::NOLASTLINE,
              "Min_modify solver petsc: this LAMMPS was built without PETSc (install it, e.g. "
@@ -693,7 +656,7 @@ std::string PetscLinearSolver::name() const
 {
   return {};
 }
-void PetscLinearSolver::reset(int) {}
+void PetscLinearSolver::reset(int, int, int) {}
 void PetscLinearSolver::assemble(const FreeHessian &) {}
 void PetscLinearSolver::set_tolerance(double) {}
 void PetscLinearSolver::solve(const std::vector<double> &, std::vector<double> &) {}

@@ -47,9 +47,9 @@ namespace SPHElastic {
     static bool available();
 
     std::string name() const override;
-    void reset(int nfree) override;
+    void reset(int nfree, int nrows, int first_row) override;
     void assemble(const FreeHessian &) override;
-    void solve(const std::vector<double> &force_share, std::vector<double> &step) override;
+    void solve(const std::vector<double> &force, std::vector<double> &step) override;
     void set_tolerance(double relative) override;
     bool indefinite() const override { return negative_curvature; }
     bool matrix_free() const override { return method == MATRIX_FREE; }
@@ -61,6 +61,7 @@ namespace SPHElastic {
     std::unique_ptr<Objects> p;
     Method method;
     int n;
+    int nrows, first;    // this rank's rows of the free coordinates
     bool negative_curvature;
     int nsolve, niterations, nshifted, nminres;
     int nbuild;                  // multigrid hierarchies built

@@ -21,8 +21,13 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "fix_minimize.h"
 #include "fix_sph_mirror.h"
+#include "force.h"
+#include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
+#include "pair_sph_icb.h"
 
 #include <Eigen/Dense>
 
@@ -30,7 +35,6 @@
 #include <cfloat>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
@@ -45,7 +49,34 @@ enum DofStatus { UNKNOWN = 0, FREE = 1, HELD = 2, MIRROR = 3 };
 
 /* ---------------------------------------------------------------------- */
 
-NewtonDofs::NewtonDofs(LAMMPS *lmp) : Pointers(lmp), dim(3), nfree_dofs(0) {}
+NewtonDofs::NewtonDofs(LAMMPS *lmp) :
+    Pointers(lmp), dim(3), nfree_dofs(0), nrows_mine(0), first(0), fixmin(nullptr), ivector(-1),
+    cache(nullptr), maxcache(0), synced_builds(-1), exchanging(false)
+{
+}
+
+/* ---------------------------------------------------------------------- */
+
+NewtonDofs::~NewtonDofs()
+{
+  memory->destroy(cache);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void NewtonDofs::attach(FixMinimize *fix, int vector)
+{
+  fixmin = fix;
+  ivector = vector;
+  synced_builds = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double *NewtonDofs::owned_records() const
+{
+  return fixmin->request_vector(ivector);
+}
 
 /* ----------------------------------------------------------------------
    a distinct non-zero test force for each atom ID and component
@@ -60,32 +91,30 @@ double NewtonDofs::probe_value(tagint id, int a)
    which coordinates are free, held, or tied to another atom.  The fixes'
    force post-processing is linear in the force for the fixes this solver
    understands: fix setforce replaces components (held), fix sph/mirror
-   moves a mirror atom's force to its source with a minus sign, and fixes
-   like addforce or sph/contact add forces that do not depend on it.  So
-   the difference of the post-processed test force r and of zero tells all.
+   moves a mirror atom's force to its source (T^T f), and fixes like
+   addforce or sph/contact add forces that do not depend on it.  So the
+   difference of the post-processed test force r and of zero tells all.
    Anything else is refused rather than solved wrongly.
 ------------------------------------------------------------------------- */
 
 void NewtonDofs::find(int vflag)
 {
+  if (!fixmin) error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no per-atom storage");
   dim = domain->dimension;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const tagint *tag = atom->tag;
+  const int *mask = atom->mask;
   double **f = atom->f;
 
-  // mirror atom -> source; source -> its mirrors and the fix that ties them
-  std::unordered_map<tagint, tagint> source_of;
-  std::unordered_map<tagint, std::vector<std::pair<tagint, const FixSPHMirror *>>> mirrors_of;
-  std::unordered_map<tagint, const FixSPHMirror *> fix_of;
-  for (auto *fix : modify->get_fix_by_style("^sph/mirror$")) {
-    const auto *mirror = dynamic_cast<FixSPHMirror *>(fix);
-    for (const auto &[m, s] : mirror->mirror_sources()) {
-      source_of[m] = s;
-      mirrors_of[s].emplace_back(m, mirror);
-      fix_of[m] = mirror;
-    }
-  }
+  std::vector<FixSPHMirror *> mirror_fixes;
+  for (auto *fix : modify->get_fix_by_style("^sph/mirror$"))
+    mirror_fixes.push_back(dynamic_cast<FixSPHMirror *>(fix));
+  auto mirror_fix_of = [&](int i) -> FixSPHMirror * {
+    for (auto *fix : mirror_fixes)
+      if (mask[i] & fix->groupbit) return fix;
+    return nullptr;
+  };
 
   // the fixes' forces alone first: the test forces are scaled to them, so
   // that they stand out of the round-off of the sum however large the load
@@ -107,45 +136,41 @@ void NewtonDofs::find(int vflag)
     }
   }
 
-  const bigint ndof = atom->natoms * dim;
-  std::vector<int> status(ndof, UNKNOWN), status_all(ndof);
-  std::vector<tagint> source(ndof, 0), source_all(ndof);
-  // row a of a mirror atom's tie T, per dof of a mirror atom
-  const bool mirrors = !source_of.empty();
-  std::vector<double> ties(mirrors ? 3 * ndof : 0, 0.0), ties_all(ties.size());
+  // what the probe would become if the fixes did only what is modelled:
+  // each mirror hands T^T of its test force to its source (by the fix's
+  // own links and reverse communication, as its source may be another
+  // rank's atom); and the size of that sum for the round-off tolerance
+  double **expected = nullptr, **size = nullptr;
+  memory->create(expected, std::max(nlocal, 1), 3, "sph/newton:expected");
+  memory->create(size, std::max(nlocal, 1), 3, "sph/newton:size");
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < 3; a++) expected[i][a] = size[i][a] = probe_value(tag[i], a);
+  for (auto *fix : mirror_fixes) {
+    fix->hand_over(expected, false);
+    fix->hand_over(size, true);
+  }
+
+  std::vector<int> status(3 * nlocal, HELD);
+  std::vector<double> ties(9 * nlocal, 0.0);    // row a of a mirror atom's tie T
   double **x0 = atom->x0;
   double T[3][3];
-  for (int i = 0; i < nlocal; i++)
+  for (int i = 0; i < nlocal; i++) {
+    FixSPHMirror *mirror = mirror_fix_of(i);
     for (int a = 0; a < dim; a++) {
-      const bigint dof = (tag[i] - 1) * dim + a;
       const double change = with_probe[3 * i + a] - without[3 * i + a];
-      auto mirror = source_of.find(tag[i]);
-      double expected = probe_value(tag[i], a), size = fabs(expected);
-      if (mirror != source_of.end()) {
-        expected = size = 0.0;
-      } else if (mirrors_of.count(tag[i])) {
-        // the mirror hands T^T f to its source; a source lies on the
-        // normal line of its mirrors, so its position gives their T
-        for (const auto &[m, fix] : mirrors_of[tag[i]]) {
-          fix->tie(x0[i], T);
-          for (int b = 0; b < dim; b++) {
-            expected += T[b][a] * probe_value(m, b);
-            size += fabs(T[b][a]) * probe_value(m, b);
-          }
-        }
-      }
+      const double want = mirror ? 0.0 : expected[i][a];
+      const double scale = mirror ? 0.0 : fabs(size[i][a]);
       // round-off of the test force itself and of the difference of the sums
-      const double tolerance = 1.0e-12 * size * probe_scale +
+      const double tolerance = 1.0e-12 * scale * probe_scale +
           8.0 * DBL_EPSILON * (fabs(with_probe[3 * i + a]) + fabs(without[3 * i + a]));
-      if (mirror != source_of.end() && change == 0.0) {
-        status[dof] = MIRROR;
-        source[dof] = mirror->second;
-        fix_of[tag[i]]->tie(x0[i], T);
-        for (int b = 0; b < 3; b++) ties[3 * dof + b] = T[a][b];
+      if (mirror && change == 0.0) {
+        status[3 * i + a] = MIRROR;
+        mirror->tie(x0[i], T);
+        for (int b = 0; b < 3; b++) ties[9 * i + 3 * a + b] = T[a][b];
       } else if (change == 0.0) {
-        status[dof] = HELD;
-      } else if (fabs(change - expected * probe_scale) <= tolerance) {
-        status[dof] = FREE;
+        status[3 * i + a] = HELD;
+      } else if (fabs(change - want * probe_scale) <= tolerance) {
+        status[3 * i + a] = FREE;
       } else {
         error->one(FLERR, Error::NOLASTLINE,
                    "Min_style sph/newton cannot model how the fixes change the force on atom {} "
@@ -155,43 +180,228 @@ void NewtonDofs::find(int vflag)
                    tag[i], "xyz"[a]);
       }
     }
-  MPI_Allreduce(status.data(), status_all.data(), ndof, MPI_INT, MPI_SUM, world);
-  MPI_Allreduce(source.data(), source_all.data(), ndof, MPI_LMP_TAGINT, MPI_SUM, world);
-  if (mirrors) MPI_Allreduce(ties.data(), ties_all.data(), 3 * ndof, MPI_DOUBLE, MPI_SUM, world);
+  }
+  memory->destroy(expected);
+  memory->destroy(size);
 
-  // every rank numbers the free coordinates the same way
-  reduced.assign(ndof, -1);
-  tied.assign(ndof, 0);
-  nfree_dofs = 0;
-  for (bigint dof = 0; dof < ndof; dof++)
-    if (status_all[dof] == FREE) reduced[dof] = nfree_dofs++;
-  term_start.assign(ndof + 1, 0);
-  terms.clear();
-  for (bigint dof = 0; dof < ndof; dof++) {
-    term_start[dof] = (int) terms.size();
-    if (status_all[dof] == FREE) {
-      terms.push_back({reduced[dof], 1.0});
-    } else if (status_all[dof] == MIRROR) {
-      tied[dof] = 1;
-      for (int b = 0; b < dim; b++) {
-        const double coef = ties_all[3 * dof + b];
-        if (coef == 0.0) continue;
-        const bigint src = (source_all[dof] - 1) * dim + b;
-        if (status_all[src] == MIRROR)
-          error->all(FLERR, Error::NOLASTLINE,
-                     "Min_style sph/newton: mirror atom {} has a mirror atom as its source",
-                     dof / dim + 1);
-        if (reduced[src] >= 0) terms.push_back({reduced[src], coef});
+  // this rank's free coordinates in the order of their atoms' IDs, after
+  // the other ranks' before it: on one rank the order of the IDs
+  std::vector<int> order(nlocal);
+  for (int i = 0; i < nlocal; i++) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int p, int q) {
+    return tag[p] < tag[q];
+  });
+  int nmine = 0;
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < dim; a++)
+      if (status[3 * i + a] == FREE) nmine++;
+  int before = 0, total = 0;
+  MPI_Exscan(&nmine, &before, 1, MPI_INT, MPI_SUM, world);
+  if (comm->me == 0) before = 0;    // MPI_Exscan leaves rank 0's undefined
+  MPI_Allreduce(&nmine, &total, 1, MPI_INT, MPI_SUM, world);
+  nrows_mine = nmine;
+  first = before;
+  nfree_dofs = total;
+  row_offsets.assign(comm->nprocs + 1, 0);
+  MPI_Allgather(&first, 1, MPI_INT, row_offsets.data(), 1, MPI_INT, world);
+  row_offsets[comm->nprocs] = nfree_dofs;
+
+  double *records = owned_records();
+  int next = first;
+  for (int i : order) {
+    double *rec = records + WIDTH * i;
+    for (int k = 0; k < WIDTH; k++) rec[k] = 0.0;
+    for (int a = 0; a < dim; a++) {
+      const int s = status[3 * i + a];
+      rec[8 * a] = s;
+      if (s == FREE) {
+        rec[8 * a + 1] = 1;
+        rec[8 * a + 2] = next++;
+        rec[8 * a + 3] = 1.0;
       }
-    } else if (status_all[dof] == UNKNOWN) {
-      error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: no atom has ID {}",
-                 dof / dim + 1);
     }
   }
-  term_start[ndof] = (int) terms.size();
+
+  // a mirror atom's terms are its source's free coordinates: its source,
+  // an owned atom or a ghost (fix sph/mirror requires that), has its
+  // indices once the ghosts have theirs
+  synced_builds = -1;
+  sync();
+  tagint bad = MAXTAGINT;
+  for (int i = 0; i < nlocal; i++) {
+    FixSPHMirror *mirror = mirror_fix_of(i);
+    if (!mirror) continue;
+    double *rec = records + WIDTH * i;
+    int j = -1;
+    for (int a = 0; a < dim; a++) {
+      if (status[3 * i + a] != MIRROR) continue;
+      if (j < 0) j = mirror->local_source(i);
+      const double *src = record(j);
+      int nterm = 0;
+      for (int b = 0; b < dim; b++) {
+        const double coef = ties[9 * i + 3 * a + b];
+        if (coef == 0.0) continue;
+        if (src[8 * b] == MIRROR) bad = std::min(bad, tag[i]);
+        if (src[8 * b] != FREE) continue;
+        rec[8 * a + 2 + 2 * nterm] = src[8 * b + 2];
+        rec[8 * a + 3 + 2 * nterm] = coef;
+        nterm++;
+      }
+      rec[8 * a + 1] = nterm;
+    }
+  }
+  tagint bad_all = MAXTAGINT;
+  MPI_Allreduce(&bad, &bad_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bad_all != MAXTAGINT)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Min_style sph/newton: mirror atom {} has a mirror atom as its source", bad_all);
+  synced_builds = -1;
+  sync();
+
   if (nfree_dofs == 0)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
-  check_rigid_modes(status_all, ties_all);
+  check_rigid_modes(status, ties);
+}
+
+/* ----------------------------------------------------------------------
+   the ghosts' terms by forward communication, and the exchange of the
+   rows that the owned atoms use, both again after atoms were exchanged
+   (which a neighbor list build follows; every rank sees the same count)
+------------------------------------------------------------------------- */
+
+void NewtonDofs::sync() const
+{
+  if (synced_builds >= 0 && synced_builds == neighbor->ncalls) return;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  if (atom->nmax > maxcache) {
+    memory->destroy(cache);
+    maxcache = atom->nmax;
+    memory->create(cache, maxcache, WIDTH, "sph/newton:terms");
+  }
+  const double *records = owned_records();
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < WIDTH; k++) cache[i][k] = records[WIDTH * i + k];
+  // the pair's forward communication carries 9 values per atom at most:
+  // one coordinate's 8 at a time
+  auto *pair = dynamic_cast<PairSPHICB *>(force->pair);
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires pair_style sph/icb");
+  std::vector<double *> rows(std::max(nall, 1));
+  for (int a = 0; a < 3; a++) {
+    for (int i = 0; i < nall; i++) rows[i] = cache[i] + 8 * a;
+    pair->forward_comm_array(rows.data(), 8);
+  }
+  build_exchange();
+  synced_builds = neighbor->ncalls;
+}
+
+/* ----------------------------------------------------------------------
+   the rows of the owned atoms' terms, and who holds them: rows numbered
+   on another rank (a mirror's source there, an atom that moved) are asked
+   of it.  Each rank tells each other how many rows it asks for, then which
+------------------------------------------------------------------------- */
+
+void NewtonDofs::build_exchange() const
+{
+  const int nlocal = atom->nlocal;
+  const int nprocs = comm->nprocs;
+  needed.clear();
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < dim; a++)
+      for_each_term(i, a, [&](int r, double) {
+        needed.push_back(r);
+      });
+  std::sort(needed.begin(), needed.end());
+  needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+  owned_terms.clear();
+  for (int i = 0; i < nlocal; i++)
+    for (int a = 0; a < dim; a++) {
+      const bool own = record(i)[8 * a] == FREE;
+      for_each_term(i, a, [&](int r, double c) {
+        const int pos =
+            static_cast<int>(std::lower_bound(needed.begin(), needed.end(), r) - needed.begin());
+        owned_terms.push_back({i, a, pos, c, own});
+      });
+    }
+
+  local_at.assign(needed.size(), -1);
+  remote_pos.clear();
+  ask_counts.assign(nprocs, 0);
+  std::vector<int> asked;    // the rows asked for, by rank (needed is sorted, so are they)
+  for (size_t k = 0; k < needed.size(); k++) {
+    const int r = needed[k];
+    if (r >= first && r < first + nrows_mine) {
+      local_at[k] = r - first;
+      continue;
+    }
+    const int owner = static_cast<int>(std::upper_bound(row_offsets.begin(), row_offsets.end(), r) -
+                                       row_offsets.begin()) -
+        1;
+    ask_counts[owner]++;
+    remote_pos.push_back(static_cast<int>(k));
+    asked.push_back(r);
+  }
+  int any = remote_pos.empty() ? 0 : 1, any_all = 0;
+  MPI_Allreduce(&any, &any_all, 1, MPI_INT, MPI_MAX, world);
+  exchanging = any_all != 0;
+  served.clear();
+  if (!exchanging) return;
+  serve_counts.assign(nprocs, 0);
+  MPI_Alltoall(ask_counts.data(), 1, MPI_INT, serve_counts.data(), 1, MPI_INT, world);
+  ask_displs.assign(nprocs, 0);
+  serve_displs.assign(nprocs, 0);
+  for (int p = 1; p < nprocs; p++) {
+    ask_displs[p] = ask_displs[p - 1] + ask_counts[p - 1];
+    serve_displs[p] = serve_displs[p - 1] + serve_counts[p - 1];
+  }
+  served.resize(serve_displs[nprocs - 1] + serve_counts[nprocs - 1]);
+  MPI_Alltoallv(asked.data(), ask_counts.data(), ask_displs.data(), MPI_INT, served.data(),
+                serve_counts.data(), serve_displs.data(), MPI_INT, world);
+  for (int &r : served) {
+    if (r < first || r >= first + nrows_mine)
+      error->one(FLERR, Error::NOLASTLINE,
+                 "Min_style sph/newton: row {} asked of the wrong rank (internal error)", r);
+    r -= first;
+  }
+  remote.resize(remote_pos.size());
+  serving.resize(served.size());
+}
+
+/* ---------------------------------------------------------------------- */
+
+void NewtonDofs::gather(const std::vector<double> &slice) const
+{
+  in.resize(needed.size());
+  for (size_t k = 0; k < needed.size(); k++)
+    if (local_at[k] >= 0) in[k] = slice[local_at[k]];
+  if (!exchanging) return;
+  for (size_t s = 0; s < served.size(); s++) serving[s] = slice[served[s]];
+  MPI_Alltoallv(serving.data(), serve_counts.data(), serve_displs.data(), MPI_DOUBLE, remote.data(),
+                ask_counts.data(), ask_displs.data(), MPI_DOUBLE, world);
+  for (size_t m = 0; m < remote_pos.size(); m++) in[remote_pos[m]] = remote[m];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void NewtonDofs::scatter_add(std::vector<double> &slice) const
+{
+  slice.assign(nrows_mine, 0.0);
+  for (size_t k = 0; k < needed.size(); k++)
+    if (local_at[k] >= 0) slice[local_at[k]] += out[k];
+  if (!exchanging) return;
+  for (size_t m = 0; m < remote_pos.size(); m++) remote[m] = out[remote_pos[m]];
+  MPI_Alltoallv(remote.data(), ask_counts.data(), ask_displs.data(), MPI_DOUBLE, serving.data(),
+                serve_counts.data(), serve_displs.data(), MPI_DOUBLE, world);
+  for (size_t s = 0; s < served.size(); s++) slice[served[s]] += serving[s];
+}
+
+/* ---------------------------------------------------------------------- */
+
+int NewtonDofs::own_index(int i, int a) const
+{
+  const double *rec = record(i) + 8 * a;
+  return rec[0] == FREE ? static_cast<int>(rec[2]) : -1;
 }
 
 /* ----------------------------------------------------------------------
@@ -202,12 +412,10 @@ void NewtonDofs::find(int vflag)
    that no row sees is free.
 ------------------------------------------------------------------------- */
 
-void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all,
-                                   const std::vector<double> &ties)
+void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::vector<double> &ties)
 {
   const int nlocal = atom->nlocal;
   const tagint *mol = atom->molecule;
-  const tagint *tag = atom->tag;
   double **x = atom->x;
   tagint mymax = 0, nmol = 0;
   for (int i = 0; i < nlocal; i++) mymax = std::max(mymax, mol[i]);
@@ -257,14 +465,13 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all,
       }
     }
     for (int a = 0; a < dim; a++) {
-      const bigint dof = (tag[i] - 1) * dim + a;
-      const int status = status_all[dof];
-      if (status != HELD && status != MIRROR) continue;
+      const int kind = status[3 * i + a];
+      if (kind != HELD && kind != MIRROR) continue;
       double row[6];
       for (int p = 0; p < nmodes; p++) {
         row[p] = mode[a][p];
-        if (status == MIRROR)
-          for (int b = 0; b < dim; b++) row[p] -= ties[3 * dof + b] * mode[b][p];
+        if (kind == MIRROR)
+          for (int b = 0; b < dim; b++) row[p] -= ties[9 * i + 3 * a + b] * mode[b][p];
       }
       double *n = &normal[nmodes * nmodes * mol[i]];
       for (int p = 0; p < nmodes; p++)
@@ -312,30 +519,57 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status_all,
 
 /* ---------------------------------------------------------------------- */
 
-void NewtonDofs::free_force(std::vector<double> &share) const
+void NewtonDofs::free_force(std::vector<double> &slice) const
 {
-  share.assign(nfree_dofs, 0.0);
-  const tagint *tag = atom->tag;
   double **f = atom->f;
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < dim; a++) {
-      const bigint dof = (tag[i] - 1) * dim + a;
-      if (reduced[dof] >= 0 && !tied[dof]) share[reduced[dof]] = f[i][a];
-    }
+  fill(
+      [&](int i, int a) {
+        return f[i][a];
+      },
+      slice);
 }
 
 /* ---------------------------------------------------------------------- */
 
-void NewtonDofs::expand(const std::vector<double> &step, double *h) const
+void NewtonDofs::expand(const std::vector<double> &slice, double *h) const
 {
-  const tagint *tag = atom->tag;
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) {
-      double value = 0.0;
-      if (a < dim)
-        for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
-          value += c * step[r];
-        });
-      h[3 * i + a] = value;
-    }
+  sync();
+  gather(slice);
+  const int n = 3 * atom->nlocal;
+  for (int k = 0; k < n; k++) h[k] = 0.0;
+  for (const auto &t : owned_terms) h[3 * t.i + t.a] += t.coef * in[t.pos];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void NewtonDofs::collect(const double *peratom, std::vector<double> &slice) const
+{
+  sync();
+  out.assign(needed.size(), 0.0);
+  for (const auto &t : owned_terms) out[t.pos] += t.coef * peratom[3 * t.i + t.a];
+  scatter_add(slice);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double NewtonDofs::dot(const std::vector<double> &u, const std::vector<double> &v) const
+{
+  double mine = 0.0, all = 0.0;
+  for (size_t k = 0; k < u.size(); k++) mine += u[k] * v[k];
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double NewtonDofs::memory_usage() const
+{
+  double bytes = (double) maxcache * WIDTH * sizeof(double);
+  bytes += (double) owned_terms.capacity() * sizeof(OwnedTerm);
+  bytes += (double) (needed.capacity() + local_at.capacity() + remote_pos.capacity() +
+                     served.capacity()) *
+      sizeof(int);
+  bytes += (double) (in.capacity() + out.capacity() + remote.capacity() + serving.capacity()) *
+      sizeof(double);
+  return bytes;
 }

@@ -18,7 +18,6 @@
 #include "sph_linearisation.h"
 #include "sph_newton_dofs.h"
 
-#include <algorithm>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -33,7 +32,8 @@ namespace SPHElastic {
      coordinates: held ones drop out, a mirror atom's follow its source's
      with the mirror's sign.  A linear-solver backend assembles its matrix
      from these entries, in its own storage, or multiplies by it without
-     a matrix; the object lives as long as the minimization.
+     a matrix; the object lives as long as the minimization.  Vectors on
+     the free coordinates are this rank's rows of them (NewtonDofs).
   ------------------------------------------------------------------------- */
 
   class FreeHessian {
@@ -44,13 +44,15 @@ namespace SPHElastic {
     }
 
     int size() const { return dofs.nfree(); }
+    const NewtonDofs &free_coordinates() const { return dofs; }
 
     // calls add(row, col, value) for this rank's entries of the lower
     // triangle (col <= row), in the order the linearisation gives them (the same
     // from one call to the next unless atoms were sorted or migrated), until
-    // add returns false; returns false if it was stopped so
+    // add returns false; returns false if it was stopped so.  Collective
     template <typename Add> bool for_each_lower_entry(Add &&add) const
     {
+      dofs.sync();
       bool going = true;
       energy.hessian([&](tagint k, tagint l, const double(*block)[3]) {
         if (going) going = map_lower(k, l, block, add);
@@ -62,6 +64,7 @@ namespace SPHElastic {
     // (a preconditioner for the matrix-free product below)
     template <typename Add> void for_each_lower_spring_entry(Add &&add) const
     {
+      dofs.sync();
       energy.spring_matrix([&](tagint k, tagint l, const double(*block)[3]) {
         map_lower(k, l, block, add);
       });
@@ -71,6 +74,7 @@ namespace SPHElastic {
     // K's soft modes (the preconditioner of the matrix-free product)
     template <typename Add> void for_each_lower_compact_entry(Add &&add) const
     {
+      dofs.sync();
       energy.compact_matrix([&](tagint k, tagint l, const double(*block)[3]) {
         map_lower(k, l, block, add);
       });
@@ -78,58 +82,29 @@ namespace SPHElastic {
 
     // visit(i, a, r) for coordinate a of each owned atom i that is itself a
     // free coordinate r (not held, not a mirror's copy): each free
-    // coordinate is visited once, on the rank that owns its atom
+    // coordinate is visited once, on the rank that owns its atom.  Collective
     template <typename Visit> void for_each_own_free(Visit &&visit) const
     {
-      const tagint *tag = atom->tag;
+      dofs.sync();
       const int dim = dofs.dimension();
       for (int i = 0; i < atom->nlocal; i++)
         for (int a = 0; a < dim; a++) {
-          const bigint dof = (tag[i] - 1) * dim + a;
-          const int r = dofs.index(dof);
-          if (r >= 0 && !dofs.is_tied(dof)) visit(i, a, r);
+          const int r = dofs.own_index(i, a);
+          if (r >= 0) visit(i, a, r);
         }
     }
 
     double nearest_spacing() const { return energy.nearest_spacing(); }
 
-    // the free coordinates that this rank's owned atoms follow, sorted
-    std::vector<int> needed_indices() const
+    // y = T^T K T v without K, v and y this rank's rows.  Collective
+    void product(const std::vector<double> &v, std::vector<double> &y) const
     {
-      std::vector<int> needed;
-      const tagint *tag = atom->tag;
-      const int dim = dofs.dimension();
-      for (int i = 0; i < atom->nlocal; i++)
-        for (int a = 0; a < dim; a++)
-          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double) {
-            needed.push_back(r);
-          });
-      std::sort(needed.begin(), needed.end());
-      needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
-      return needed;
-    }
-
-    // y = T^T K T v without K: value(r) gives v at a free index of
-    // needed_indices(), add(r, y_share) receives this rank's share of y.
-    // Collective
-    template <typename Value, typename Add> void product(Value &&value, Add &&add) const
-    {
-      const tagint *tag = atom->tag;
       const int nlocal = atom->nlocal;
-      const int dim = dofs.dimension();
-      work_in.assign(3 * (size_t) nlocal, 0.0);
+      work_in.resize(3 * (size_t) nlocal);
       work_out.assign(3 * (size_t) nlocal, 0.0);
-      for (int i = 0; i < nlocal; i++)
-        for (int a = 0; a < dim; a++)
-          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
-            work_in[3 * i + a] += c * value(r);
-          });
+      dofs.expand(v, work_in.data());
       energy.hessian_product(work_in.data(), work_out.data());
-      for (int i = 0; i < nlocal; i++)
-        for (int a = 0; a < dim; a++)
-          dofs.for_each_term((tag[i] - 1) * dim + a, [&](int r, double c) {
-            add(r, c * work_out[3 * i + a]);
-          });
+      dofs.collect(work_out.data(), y);
     }
 
    private:
@@ -138,16 +113,18 @@ namespace SPHElastic {
     const NewtonDofs &dofs;
     mutable std::vector<double> work_in, work_out;
 
-    // the lower-triangle entries of the block (k, l) on the free coordinates
+    // the lower-triangle entries of the block (k, l) on the free
+    // coordinates; both atoms are owned or ghosts here
     template <typename Add>
     bool map_lower(tagint k, tagint l, const double (*block)[3], Add &add) const
     {
       const int dim = dofs.dimension();
+      const int i = atom->map(k), j = atom->map(l);
       bool going = true;
       for (int a = 0; a < dim && going; a++)
-        dofs.for_each_term((k - 1) * dim + a, [&](int row, double crow) {
+        dofs.for_each_term(i, a, [&](int row, double crow) {
           for (int b = 0; b < dim && going; b++)
-            dofs.for_each_term((l - 1) * dim + b, [&](int col, double ccol) {
+            dofs.for_each_term(j, b, [&](int col, double ccol) {
               if (going && col <= row) going = add(row, col, crow * ccol * block[a][b]);
             });
         });
