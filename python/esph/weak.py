@@ -6,8 +6,9 @@ along its length with the rank count, so flat memory per rank is the
 target; the Newton bookkeeping (sph_newton_dofs, the mirror pairing, the
 direct solver's gathered Hessian on rank 0) is what can break it.
 
-The cases are those of studies/weak_scaling/weak.py (issue 34's baseline),
-moved here so that `esph bench --suite` runs them and writes JSON.  Each rank
+The cases are those of the study studies/weak_scaling (issue 34's baseline,
+whose script this replaced), so that `esph bench --suite` runs them and
+writes JSON.  Each rank
 runs under bench3d's wrapper, which reports the rank's own peak RSS
 (getrusage of its lmp child), so the memory of rank 0 is told apart from
 the others'."""
@@ -40,6 +41,9 @@ CASES = {
                                          "Fy": -10}),
     "beam-newton": WeakCase("beam", "newton", {"dx": 0.001, "L": 0.2, "route": "min",
                                                "Fy": -10}),
+    # the same with PETSc's distributed solver, which gathers nothing on rank 0
+    "beam-newton-petsc": WeakCase("beam", "newton", {"dx": 0.001, "L": 0.2, "route": "min",
+                                                     "Fy": -10, "linear": "petsc"}),
     "beam3d-dyn": WeakCase("beam3d", "dyn", {"dx": 0.002, "L": 0.1, "route": "nve",
                                              "nsteps": 200, "Fy": -100}),
     "beam3d-newton": WeakCase("beam3d", "newton", {"dx": 0.002, "L": 0.1, "route": "min",
