@@ -257,22 +257,26 @@ namespace SPHElastic {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
       double energy_sum = 0.0;
-      // each run in two passes: the pairs' terms, then i's share of Q from
-      // them.  One pass would hold G_i, Q_i, f_i and u_i at once (24 values
-      // in 3d), more than the registers; the Q_i terms are added in the
-      // same order, so the results are those of one pass
+      // in 3d each run in two passes: the pairs' terms, then i's share of Q
+      // from them.  One pass would hold G_i, Q_i, f_i and u_i at once (24
+      // values), more than the registers (in 2d, 10 fit); the Q_i terms are
+      // added in the same order, so the results are those of one pass
+      constexpr bool TWO_PASS = DIM == 3;
       std::vector<double> half_kd_run;
       for (int r = 0; r < nruns; r++) {
         const int i = run_atom[r];
         const int first = run_first[r], last = run_end(r);
-        if (half_kd_run.size() < (size_t) (last - first) * DIM)
+        if (TWO_PASS && half_kd_run.size() < (size_t) (last - first) * DIM)
           half_kd_run.resize((size_t) (last - first) * DIM);
-        double Gi[DIM][DIM], fi[DIM], ui[DIM];
+        double Gi[DIM][DIM], qi[DIM][DIM], fi[DIM], ui[DIM];
         double *const ri = row(i);
         for (int a = 0; a < DIM; a++) {
           ui[a] = u[i][a];
           fi[a] = ri[a];
-          for (int b = 0; b < DIM; b++) Gi[a][b] = grad[i][3 * a + b];
+          for (int b = 0; b < DIM; b++) {
+            Gi[a][b] = grad[i][3 * a + b];
+            if (!TWO_PASS) qi[a][b] = q[i][3 * a + b];
+          }
         }
         for (int p = first; p < last; p++) {
           const int j = pair_atoms[2 * p + 1];
@@ -288,8 +292,13 @@ namespace SPHElastic {
             d[a] = uj[a] - ui[a] - 0.5 * gx;
           }
           const bool both = !directed_copy && j < nlocal;
-          double *const half_kd = &half_kd_run[(size_t) (p - first) * DIM];
+          double half_kd_pair[DIM];
+          double *const half_kd = TWO_PASS ? &half_kd_run[(size_t) (p - first) * DIM]
+                                           : half_kd_pair;
           for (int a = 0; a < DIM; a++) half_kd[a] = 0.5 * kij * d[a];
+          if (!TWO_PASS)
+            for (int a = 0; a < DIM; a++)
+              for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
           if (ENERGY) {
             const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             energy_sum += both ? 2.0 * e : e;
@@ -306,14 +315,15 @@ namespace SPHElastic {
         }
         for (int a = 0; a < DIM; a++) ri[a] = fi[a];
 
-        double qi[DIM][DIM];
-        for (int a = 0; a < DIM; a++)
-          for (int b = 0; b < DIM; b++) qi[a][b] = q[i][3 * a + b];
-        for (int p = first; p < last; p++) {
-          const double *X = &pair_hg[(bigint) p * (1 + DIM) + 1];
-          const double *half_kd = &half_kd_run[(size_t) (p - first) * DIM];
+        if (TWO_PASS) {
           for (int a = 0; a < DIM; a++)
-            for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
+            for (int b = 0; b < DIM; b++) qi[a][b] = q[i][3 * a + b];
+          for (int p = first; p < last; p++) {
+            const double *X = &pair_hg[(bigint) p * (1 + DIM) + 1];
+            const double *half_kd = &half_kd_run[(size_t) (p - first) * DIM];
+            for (int a = 0; a < DIM; a++)
+              for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
+          }
         }
         for (int a = 0; a < DIM; a++)
           for (int b = 0; b < DIM; b++) q[i][3 * a + b] = qi[a][b];
