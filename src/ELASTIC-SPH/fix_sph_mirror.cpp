@@ -286,12 +286,7 @@ void FixSPHMirror::check_other_fixes()
   // the sources: marked at each mirror's link (the source may be a ghost)
   // and summed onto their owners by the reverse communication
   const int nall = atom->nlocal + atom->nghost;
-  if (atom->nmax > nmax) {
-    nmax = atom->nmax;
-    memory->destroy(fsource);
-    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
-  }
-  if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+  clear_fsource(nall);
   for (const auto &link : links) fsource[link.second][0] = 1.0;
   comm->reverse_comm(this);
   const int *mask = atom->mask;
@@ -615,21 +610,8 @@ int FixSPHMirror::match_in_rendezvous(int n, char *inbuf, int &flag, int *&procs
   }
   const SPHElastic::PointCells sources(cands, NPACK, 1, pairing.cell);
   const SPHElastic::PointCells points(cands, NPACK, 1, pairing.reach);
-
-  double nearest2 = pairing.dmax * pairing.dmax;
-  for (int c = 0; c < points.size(); c++) {
-    if (!home[c]) continue;
-    const double *X = points.point(c);
-    points.visit_near(X, [&](int k) {
-      if (k == c) return true;
-      const double *Y = points.point(k);
-      nearest2 = std::min(nearest2,
-                          (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
-                              (X[2] - Y[2]) * (X[2] - Y[2]));
-      return true;
-    });
-  }
-  fix->pairing.nearest = std::sqrt(nearest2);
+  fix->pairing.nearest =
+      SPHElastic::nearest_distance(cands, NPACK, 1, pairing.reach, pairing.dmax, &home);
 
   // the layer spacing along the normal: how far along the inward normal
   // the nearest body atom within 60 degrees of it lies (the next layer's,
@@ -885,6 +867,20 @@ void FixSPHMirror::hand_over_forces()
 }
 
 /* ----------------------------------------------------------------------
+   fsource zeroed for the nall owned and ghost atoms (grown if need be)
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::clear_fsource(int nall)
+{
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(fsource);
+    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
+  }
+  if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+}
+
+/* ----------------------------------------------------------------------
    T^T v of each mirror atom's per-atom vector v (owned atoms) added to its
    source's and v zeroed at the mirror, as the forces are; with magnitude
    the entries of T count by their size (a scale for round-off)
@@ -893,12 +889,7 @@ void FixSPHMirror::hand_over_forces()
 void FixSPHMirror::hand_over(double **values, bool magnitude)
 {
   const int nall = atom->nlocal + atom->nghost;
-  if (atom->nmax > nmax) {
-    nmax = atom->nmax;
-    memory->destroy(fsource);
-    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
-  }
-  if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+  clear_fsource(nall);
 
   double **x0 = atom->x0;
   double T[3][3];

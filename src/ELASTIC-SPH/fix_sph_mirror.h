@@ -113,6 +113,7 @@ class FixSPHMirror : public Fix {
   bool thin_warned = false;
   void copy_volume(tagint, double, double);
   void hand_over_forces();
+  void clear_fsource(int nall);
   void check_other_fixes();
   void check_displacement_jump();
   void warn_if_atoms_behind(double reach);

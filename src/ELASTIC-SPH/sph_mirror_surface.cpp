@@ -269,11 +269,13 @@ PointCells::Cell PointCells::cell_of(const double *X) const
 /* ---------------------------------------------------------------------- */
 
 double SPHElastic::nearest_distance(const std::vector<double> &records, int stride, int offset,
-                                    double reach)
+                                    double reach, double limit, const std::vector<char> *from)
 {
   const PointCells points(records, stride, offset, reach);
-  double nearest2 = reach * reach;
+  if (limit < 0.0) limit = reach;
+  double nearest2 = limit * limit;
   for (int c = 0; c < points.size(); c++) {
+    if (from && !(*from)[c]) continue;
     const double *X = points.point(c);
     points.visit_near(X, [&](int k) {
       if (k == c) return true;

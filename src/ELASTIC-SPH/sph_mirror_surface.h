@@ -126,9 +126,12 @@ namespace SPHElastic {
     Cell cell_of(const double *X) const;
   };
 
-  // the smallest distance between two of the packed points, or 'reach' if
-  // none is nearer than that; the same on every rank given the same records
-  double nearest_distance(const std::vector<double> &records, int stride, int offset, double reach);
+  // the smallest distance between two of the packed points, or 'limit'
+  // (default: reach, the cell size of the search) if none is nearer than
+  // that; with 'from', only from the points it marks (to any point).  The
+  // same on every rank given the same records
+  double nearest_distance(const std::vector<double> &records, int stride, int offset, double reach,
+                          double limit = -1.0, const std::vector<char> *from = nullptr);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 
