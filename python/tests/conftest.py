@@ -67,6 +67,25 @@ def sph_header(box: str, dx: float = 1.0e-3, dim: int = 2, boundary: str | None 
                       types, map_array, units)
 
 
+# a bar of the mirror and Newton MPI tests: unit volumes and masses of a
+# 1 mm lattice, sph/icb with the stress ${stress} and the rotation fix
+# (defined with or without the corotated stress), the mirror clamp group at
+# x < 0 and the tip group at x > 11 mm
+MIRROR_BAR_BODY = """set group all volume 1e-9
+set group all mass 1e-6
+set group all mol 1
+pair_style sph/icb 0.0012 stress ${stress} gradient quadratic hourglass 0.05
+pair_coeff * * 1e9 0.0
+fix rot all sph/rotation
+neighbor 0.0005 bin
+"""
+MIRROR_BAR_GROUPS = """region left block INF 0.0 INF INF INF INF units box
+group mirror region left
+region endzone block 0.011 INF INF INF INF INF units box
+group tip region endzone
+"""
+
+
 def lattice_2d_script(box: str, dx: float = 1.0e-3) -> str:
     """Input lines of a 2d si box 'xlo xhi ylo yhi' (lattice units) filled
     with particles on the cell centres of a square lattice of spacing dx."""

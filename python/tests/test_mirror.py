@@ -10,7 +10,8 @@ import re
 import numpy as np
 import pytest
 
-from conftest import make_lammps, restart_round_trip, run_lmp, sph_header
+from conftest import (MIRROR_BAR_BODY, MIRROR_BAR_GROUPS, make_lammps, restart_round_trip, run_lmp,
+                      sph_header)
 from esph.beam import BeamCase, run_beam
 from esph.runner import run_mpi
 
@@ -117,19 +118,8 @@ def test_forces_are_minus_the_gradient_of_the_body_energy(gradient, hourglass):
 
 
 MPI_SCRIPT = sph_header("-3 12 0 4", extra="processors ${np} 1 1\ncomm_modify cutoff ${cut}\n",
-                        map_array=False) + """create_atoms 1 box
-set group all volume 1e-9
-set group all mass 1e-6
-set group all mol 1
-pair_style sph/icb 0.0012 stress ${stress} gradient quadratic hourglass 0.05
-pair_coeff * * 1e9 0.0
-fix rot all sph/rotation
-neighbor 0.0005 bin
-region left block INF 0.0 INF INF INF INF units box
-group mirror region left
-region endzone block 0.011 INF INF INF INF INF units box
-group tip region endzone
-fix clamp mirror sph/mirror x 0.0
+                        map_array=False) + "create_atoms 1 box\n" + MIRROR_BAR_BODY + \
+    MIRROR_BAR_GROUPS + """fix clamp mirror sph/mirror x 0.0
 fix load tip addforce 0.0 -2.0 0.0
 fix nve all nve
 timestep 2.0e-8

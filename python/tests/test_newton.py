@@ -15,7 +15,7 @@ from esph import problems
 from esph.paths import lmp_binary
 from esph.problems import BEAM, BEAM3D, TRUSS
 from esph.runner import clean_environment, run_mpi, run_script
-from conftest import input_head
+from conftest import MIRROR_BAR_BODY, MIRROR_BAR_GROUPS, input_head
 from test_errors import BASE, ICB
 
 LOAD = -250.0
@@ -150,19 +150,7 @@ region box block -3 14 0 4 -0.5 0.5
 region body block -3 12 0 4 -0.5 0.5
 create_box 1 box
 create_atoms 1 region body
-set group all volume 1e-9
-set group all mass 1e-6
-set group all mol 1
-pair_style sph/icb 0.0012 stress ${stress} gradient quadratic hourglass 0.05
-pair_coeff * * 1e9 0.0
-fix rot all sph/rotation
-neighbor 0.0005 bin
-neigh_modify every 1 delay 0 check yes
-region left block INF 0.0 INF INF INF INF units box
-group mirror region left
-region endzone block 0.011 INF INF INF INF INF units box
-group tip region endzone
-fix clamp mirror sph/mirror x 0.0
+""" + MIRROR_BAR_BODY + "neigh_modify every 1 delay 0 check yes\n" + MIRROR_BAR_GROUPS + """fix clamp mirror sph/mirror x 0.0
 fix load tip addforce 50.0 -2.0 0.0
 fix_modify load energy yes
 compute ref all property/atom x0x x0y
