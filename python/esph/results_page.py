@@ -113,6 +113,11 @@ def load_results(folder: Path) -> tuple[dict, dict]:
     return sources, data
 
 
+def sourced_heading(title: str, name: str, source: dict, char: str = "-") -> list[str]:
+    """A section's heading and where its data come from (provenance)."""
+    return heading(title, char) + provenance(name, source)
+
+
 def provenance(name: str, source: dict) -> list[str]:
     """Where a JSON file came from: the command that wrote it, when, at which
     commit, on which machine."""
@@ -393,8 +398,7 @@ def cylinder_table(rows) -> list[str]:
 
 
 def validate_section(name: str, source: dict, data: list) -> list[str]:
-    out = heading("Validation (``scripts/validate``)", "=")
-    out += provenance(name, source)
+    out = sourced_heading("Validation (``scripts/validate``)", name, source, "=")
     out += paragraph("ICB-SPH (``pair_style sph/icb``) with the paper's scheme and with the "
                      "defaults, beside the exact answer of each model at the same material "
                      "point and the paper's numbers (Tran-Duc et al. 2023, Tables 1-4); then the "
@@ -409,8 +413,8 @@ def validate_section(name: str, source: dict, data: list) -> list[str]:
 # ---------------------------------------------------------------- speed
 
 def statics_section(name: str, source: dict, data: list) -> list[str]:
-    out = heading("Statics: time to the static beam (``python -m esph statics``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("Statics: time to the static beam (``python -m esph statics``)", name,
+                          source)
     out += paragraph("The beam under -250 N with the defaults (pk1, quadratic gradient, mirror "
                      "clamp, exact volumes, face traction); *vs converged* is against Newton "
                      "to 1e-10 of the load with the row's stress measure, *vs elastica* at the "
@@ -427,8 +431,7 @@ def statics_section(name: str, source: dict, data: list) -> list[str]:
 
 
 def speed_section(name: str, source: dict, data: list) -> list[str]:
-    out = heading("Speed against error (``python -m esph speed``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("Speed against error (``python -m esph speed``)", name, source)
     out += paragraph("Wall time to the answer, throughput of the loop (particle-steps per "
                      "second) and error against the exact answer of each method's model.")
     out += table(["problem", "load", "method", "dx [mm]", "atoms", "steps", "wall [s]",
@@ -443,8 +446,7 @@ def speed_section(name: str, source: dict, data: list) -> list[str]:
 def recorded_section(name: str, source: dict, data: dict) -> list[str]:
     """Tables transcribed from commands that print only: each with its own
     command, columns and rows as given in the file."""
-    out = heading("Recorded: tables transcribed from earlier runs", "-")
-    out += provenance(name, source)
+    out = sourced_heading("Recorded: tables transcribed from earlier runs", name, source)
     for entry in data["tables"]:
         out += heading(entry["title"], "^")
         out += paragraph(f"Command: ``{entry['command']}``.  {entry['description']}")
@@ -455,8 +457,8 @@ def recorded_section(name: str, source: dict, data: dict) -> list[str]:
 
 
 def bench_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading(source.get("title", "Throughput of the dynamics (``scripts/bench``)"), "-")
-    out += provenance(name, source)
+    out = sourced_heading(source.get("title", "Throughput of the dynamics (``scripts/bench``)"),
+                          name, source)
     out += paragraph(f"{data['title']}.  Particle-steps per second of LAMMPS's loop time; "
                      "*tlsph* and *tlsph3d* are LAMMPS's MACHDYN ``smd/tlsph`` on the same "
                      "body (``examples/beam/in.beam_tlsph``, ``examples/beam3d/in.beam3d_tlsph``"
@@ -483,8 +485,8 @@ def bench3d_rows(rows: list) -> list[str]:
 
 
 def bench3d_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading("3D cantilever statics per linear solver (``scripts/bench3d``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("3D cantilever statics per linear solver (``scripts/bench3d``)", name,
+                          source)
     out += paragraph(f"{data['title']}.  Wall time of the whole run, Newton iterations, peak "
                      "memory of a rank, and the ratio to 100 dynamic steps of the same body "
                      "on the same ranks; *direct* = the Hessian gathered and factorised on "
@@ -506,8 +508,7 @@ def commands(rows: list, keys: tuple, lmp: str | None = None) -> list[str]:
 
 
 def headtohead_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading("Head to head with MACHDYN (``scripts/bench``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("Head to head with MACHDYN (``scripts/bench``)", name, source)
     out += paragraph(f"{data['title']}.  Million particle-steps per second of LAMMPS's loop "
                      "time on one rank: ``pair_style sph/icb`` with the defaults (hourglass "
                      "control 0.2) and with ``-var hg 0``, beside LAMMPS's MACHDYN "
@@ -532,8 +533,8 @@ def headtohead_section(name: str, source: dict, data: dict) -> list[str]:
 
 
 def statics_bench_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading("3D cantilever statics against 100 dynamic steps (``scripts/bench``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("3D cantilever statics against 100 dynamic steps (``scripts/bench``)",
+                          name, source)
     out += paragraph(f"{data['title']}.  Wall time of the whole run (start-up included), "
                      "Newton iterations, peak memory of the largest rank, and the ratio of the "
                      "static solve's wall time to that of 100 dynamic steps.")
@@ -543,8 +544,7 @@ def statics_bench_section(name: str, source: dict, data: dict) -> list[str]:
 
 
 def weak_section(name: str, source: dict, data: dict) -> list[str]:
-    out = heading("Weak scaling of memory (``scripts/bench``)", "-")
-    out += provenance(name, source)
+    out = sourced_heading("Weak scaling of memory (``scripts/bench``)", name, source)
     out += paragraph(f"{data['title']}: the body grows along its length with the rank count "
                      "(4 ranks oversubscribe 2 cores where the machine has 2).  *MB per rank* "
                      "is each rank's peak resident memory (``getrusage`` of its ``lmp``), in "

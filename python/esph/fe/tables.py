@@ -224,13 +224,22 @@ def _table_meta(skfem, gravity: bool = False, kind: Path | None = None) -> dict:
                  "absolute error from the last three levels (|d2|/(2^p - 1), observed order p "
                  "clipped to [1, 4]; max(|d1|, |d2|) when not monotone); error_estimate: the "
                  "largest err_c/|c| over the components not zero by symmetry",
-        "newton": "load stepping (increments <= max|load|/8 in 2D, /5 in 3D), "
-                  "|r| <= 1e-10 |f| or, at the "
-                  "round-off floor of the strongly graded meshes, Newton correction "
-                  "<= 1e-12 |u| (max_final_residual per run)",
+        "newton": _newton_note("max|load|/8 in 2D, /5 in 3D"),
         "date": datetime.date.today().isoformat(),
         "command": "cd python && " + REGENERATE + " [--problems beam,truss,beam3d,beam3d_short]",
     }
+
+
+def _newton_note(increments: str) -> str:
+    """How every table's Newton solves stop, with its load increments."""
+    return (f"load stepping (increments <= {increments}), |r| <= 1e-10 |f| or, at the "
+            "round-off floor of the strongly graded meshes, Newton correction "
+            "<= 1e-12 |u| (max_final_residual per run)")
+
+
+def _regenerate_command(problems) -> str:
+    """The command that rewrites a table of the given problems."""
+    return "cd python && " + REGENERATE + " --problems " + ",".join(problems)
 
 
 def _gravity_table_meta(skfem) -> dict:
@@ -246,10 +255,8 @@ def _gravity_table_meta(skfem) -> dict:
         "point": "entries with 'point' (and 'x', 'y', 'dx': null): the displacement (dh = u_x, "
                  "dv = u_y) of that single material point; 'end' = (L, H/2), the end-face "
                  "centre",
-        "newton": "load stepping (increments <= max|load|/8), |r| <= 1e-10 |f| or, at the "
-                  "round-off floor of the strongly graded meshes, Newton correction "
-                  "<= 1e-12 |u| (max_final_residual per run)",
-        "command": "cd python && " + REGENERATE + " --problems " + ",".join(GRAVITY_PROBLEMS),
+        "newton": _newton_note("max|load|/8"),
+        "command": _regenerate_command(GRAVITY_PROBLEMS),
     })
     return meta
 
@@ -272,7 +279,7 @@ def _cylinder_table_meta(skfem) -> dict:
                    "y = 0, H) mapped by x = x_arc(y) + (s/L)(L - x_arc(y)); the element "
                    "geometry is that exact map (arc_mapping), the area exact to the "
                    "quadrature (1.6e-10 relative at level 1, h^6)",
-        "command": "cd python && " + REGENERATE + " --problems " + ",".join(CYLINDER_PROBLEMS),
+        "command": _regenerate_command(CYLINDER_PROBLEMS),
     })
     return meta
 
