@@ -54,25 +54,30 @@ constexpr double REBUILD_SLACK = 30.0;    // after a build (and this many more) 
 constexpr double BIG = 1.0e300;
 
 /* ----------------------------------------------------------------------
-   a parallel AIJ matrix given as coordinate entries, each rank its own
-   (PETSc moves those of other ranks' rows).  Repeated entries (a pair's
-   blocks reach the same (row, col) from many pairs) are summed here, each
-   into its slot among the distinct entries found by a counting sort on
-   the rows and a sort of each row's columns: PETSc's preallocation sorted
-   all of them as one list, a tenth of a 3d statics run.  The pattern and
-   slots are set once, and again only when the entries come in another
-   order, which a hash of the (row, col) sequence tells.
+   a parallel AIJ matrix given as coordinate entries of its lower
+   triangle, each rank its own (PETSc moves those of other ranks' rows).
+   Repeated entries (a pair's blocks reach the same (row, col) from many
+   pairs) are summed here, each into its slot among the distinct entries
+   found by a counting sort on the rows and a sort of each row's columns:
+   PETSc's preallocation sorted all of them as one list, a tenth of a 3d
+   statics run.  The upper triangle is the distinct lower entries'
+   mirror, made only then: keeping both triangles of every entry doubled
+   the largest arrays of a statics run.  The pattern and slots are set
+   once, and again only when the entries come in another order, which a
+   hash of the (row, col) sequence tells.
 ------------------------------------------------------------------------- */
 
 struct CooMatrix {
   Mat M = nullptr;
   uint64_t pattern_hash = 0;
   size_t pattern_size = 0;
-  std::vector<PetscInt> rows, cols;
+  std::vector<PetscInt> rows, cols;    // col <= row
   std::vector<PetscScalar> values;
-  std::vector<PetscInt> distinct_rows, distinct_cols;    // by row, then column; each once
-  std::vector<size_t> slot;                              // entry -> its distinct entry
-  std::vector<PetscScalar> sums;                         // per distinct entry
+  // by row, then column, each once; then the mirror of each off-diagonal one
+  std::vector<PetscInt> distinct_rows, distinct_cols;
+  std::vector<size_t> mirror_of;    // mirror -> its distinct lower entry
+  std::vector<size_t> slot;         // entry -> its distinct lower entry
+  std::vector<PetscScalar> sums;    // per distinct entry, mirrors included
 
   void clear()
   {
@@ -80,17 +85,12 @@ struct CooMatrix {
     cols.clear();
     values.clear();
   }
-  // both triangles from a lower-triangle entry
-  void add_symmetric(PetscInt row, PetscInt col, double value)
+  // an entry of the lower triangle, col <= row (the upper one is its mirror)
+  void add_lower(PetscInt row, PetscInt col, double value)
   {
     rows.push_back(row);
     cols.push_back(col);
     values.push_back(value);
-    if (row != col) {
-      rows.push_back(col);
-      cols.push_back(row);
-      values.push_back(value);
-    }
   }
   void destroy()
   {
@@ -127,21 +127,32 @@ struct CooMatrix {
       std::stable_sort(order.begin() + start[k], order.begin() + start[k + 1], by_column);
     return order;
   }
-  // the distinct (row, col) of the entries, and each entry's slot
+  // the distinct (row, col) of the entries, each entry's slot, and the
+  // mirrors of the off-diagonal ones
   void find_distinct()
   {
     distinct_rows.clear();
     distinct_cols.clear();
     slot.assign(rows.size(), 0);
-    if (rows.empty()) return;
-    for (const size_t e : entries_by_row_and_column()) {
-      if (distinct_rows.empty() || distinct_rows.back() != rows[e] ||
-          distinct_cols.back() != cols[e]) {
-        distinct_rows.push_back(rows[e]);
-        distinct_cols.push_back(cols[e]);
+    if (!rows.empty()) {
+      for (const size_t e : entries_by_row_and_column()) {
+        if (distinct_rows.empty() || distinct_rows.back() != rows[e] ||
+            distinct_cols.back() != cols[e]) {
+          distinct_rows.push_back(rows[e]);
+          distinct_cols.push_back(cols[e]);
+        }
+        slot[e] = distinct_rows.size() - 1;
       }
-      slot[e] = distinct_rows.size() - 1;
     }
+    // (kept apart: MatSetPreallocationCOO may change the index arrays)
+    mirror_of.clear();
+    const size_t nlower = distinct_rows.size();
+    for (size_t d = 0; d < nlower; d++)
+      if (distinct_rows[d] != distinct_cols[d]) {
+        distinct_rows.push_back(distinct_cols[d]);
+        distinct_cols.push_back(distinct_rows[d]);
+        mirror_of.push_back(d);
+      }
   }
   // returns true if the matrix (and so its layout) was created afresh
   bool set(MPI_Comm world, PetscInt nlocal, PetscInt n)
@@ -169,6 +180,8 @@ struct CooMatrix {
     }
     sums.assign(distinct_rows.size(), 0.0);
     for (size_t e = 0; e < values.size(); e++) sums[slot[e]] += values[e];
+    const size_t nlower = sums.size() - mirror_of.size();
+    for (size_t m = 0; m < mirror_of.size(); m++) sums[nlower + m] = sums[mirror_of[m]];
     MatSetValuesCOO(M, sums.data(), INSERT_VALUES);
     clear();
     return !all_same;
@@ -338,7 +351,7 @@ void PetscLinearSolver::assemble_matrix(const FreeHessian &hessian)
 
   CooMatrix &coo = o.assembled;
   auto add = [&](int row, int col, double value) {
-    coo.add_symmetric(row, col, value);
+    coo.add_lower(row, col, value);
     return true;
   };
   if (method == MUMPS)
@@ -347,7 +360,7 @@ void PetscLinearSolver::assemble_matrix(const FreeHessian &hessian)
     hessian.for_each_lower_compact_entry(add);
   else
     hessian.for_each_lower_spring_entry(add);
-  for (PetscInt r = first; r < first + nlocal; r++) coo.add_symmetric(r, r, 0.0);
+  for (PetscInt r = first; r < first + nlocal; r++) coo.add_lower(r, r, 0.0);
   const bool new_layout = coo.set(world, nlocal, n);
 
   if (new_layout || !o.x) {
