@@ -284,7 +284,7 @@ void NewtonDofs::sync() const
     for (int k = 0; k < WIDTH; k++) cache[i][k] = records[WIDTH * i + k];
   // the pair's forward communication carries 9 values per atom at most:
   // one coordinate's 8 at a time
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair);
+  auto *pair = PairSPHICB::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires pair_style sph/icb");
   std::vector<double *> rows(std::max(nall, 1));
