@@ -158,6 +158,23 @@ def test_dynamics_of_the_body_is_bit_identical_beside_other_types(alone_dynamics
     assert np.all(beside["others_out"] == 0.0)
 
 
+def test_solid_types_partner_across_a_cross_pair_of_no_sub_style(alone_dynamics):
+    """A body of two solid types (materials alike: the upper row type 3), its
+    cross pair given to no sub-style ('none', so neighbor lists of the
+    hybrid style do not reach across it): the reference partners are still
+    found across it, and the body moves as the one-type body alone."""
+    text = script("lj", DYNAMICS).replace("create_box 2 box", "create_box 3 box")
+    text = text.replace("group body type 1\n", "region top block INF 0.021 0.003 INF INF INF "
+                        "units box\nset region top type 3\ngroup body type 1 3\n")
+    text = text.replace(PAIRS["lj"], PAIRS["lj"] + "pair_coeff 3 3 sph/icb 1e9 0.3\n"
+                        "pair_coeff 1 3 none\npair_coeff 2 3 none\n")
+    lmp = make_lammps()
+    lmp.commands_string(text)
+    assert lmp.extract_global("ntypes") == 3
+    assert_identical(alone_dynamics, body_state(lmp))
+    lmp.close()
+
+
 def test_newton_statics_of_the_body_is_bit_identical_beside_other_types():
     """min_style sph/newton with the other atoms held by fix setforce: the
     same equilibrium, to the bit."""
