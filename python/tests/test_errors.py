@@ -132,6 +132,23 @@ CASES = [
      "Unknown min_modify factor qr: use auto, cholmod or ldlt"),
     (ICB + "min_style sph/newton\nmin_modify factor",
      "Illegal min_modify factor command: missing argument(s)"),
+    # the package's styles find their pair style also as a sub-style of
+    # pair_style hybrid (python/tests/test_hybrid_types.py), and say when there is none
+    ("pair_style zero 0.0012\npair_coeff * *\ncompute c all sph/elastic/atom stress\nrun 0",
+     "Compute sph/elastic/atom requires pair style sph/icb or sph/ccb"),
+    ("pair_style zero 0.0012\npair_coeff * *\ncompute c all sph/probe 0.003 0.002\nrun 0",
+     "Compute sph/probe requires pair style sph/icb or sph/ccb"),
+    ("pair_style zero 0.0012\npair_coeff * *\nfix t all sph/traction x 0.006 traction 1e5 0\n"
+     "run 0", "Fix sph/traction requires pair_style sph/icb"),
+    ("pair_style hybrid/overlay zero 0.0012 lj/cut 0.001\npair_coeff * * zero\n"
+     "pair_coeff * * lj/cut 1e-9 1e-3\nfix c all sph/contact 0.001 thickness 0.001\nrun 0",
+     "Fix sph/contact takes the bulk moduli of pair_style sph/icb or sph/ccb"),
+    ("pair_style hybrid/overlay sph/ccb 0.0012 thickness 1e-3 zero 0.0012\n"
+     "pair_coeff * * sph/ccb 1e9 0.3\npair_coeff * * zero\nfix i all sph/ccb/nve\nrun 0",
+     "Pair style sph/ccb cannot be a sub-style of pair_style hybrid/overlay"),
+    ("pair_style hybrid/overlay sph/icb 0.0012 sph/icb 0.0012\n"
+     "pair_coeff * * sph/icb 1 1e9 0.3\npair_coeff * * sph/icb 2 1e9 0.3\nrun 0",
+     "Pair style sph/icb appears more than once in pair_style hybrid/overlay"),
 ]
 
 

@@ -87,17 +87,18 @@ ComputeSPHElasticAtom::~ComputeSPHElasticAtom()
 void ComputeSPHElasticAtom::init()
 {
   adjacent_builds = -1;    // neighbor->ncalls restarts at every init
-  pair = dynamic_cast<PairSPHElastic *>(force->pair);
+  pair = PairSPHElastic::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
-               "Compute sph/elastic/atom requires pair style sph/icb or sph/ccb");
+               "Compute sph/elastic/atom requires pair style sph/icb or sph/ccb (alone or as a "
+               "sub-style of pair_style hybrid/overlay)");
   rotfix = nullptr;
   for (int q : quantities)
     if (q == STRAIN && !pair->has_green())
       error->all(FLERR, Error::NOLASTLINE,
                  "Compute sph/elastic/atom strain needs a total-Lagrangian pair style (sph/icb); "
                  "pair style {} has no Green strain",
-                 force->pair_style);
+                 pair->style_name());
   for (int q : quantities)
     if (q == ROTATION) {
       auto fixes = modify->get_fix_by_style("^sph/rotation$");
@@ -124,10 +125,12 @@ void ComputeSPHElasticAtom::compute_peratom()
 
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
+  const int *type = atom->type;
   pair->update_outputs();
   for (int i = 0; i < nlocal; i++) {
     double *out = output[i];
-    if (!(mask[i] & groupbit)) {
+    // the atoms of other pair styles' types (pair_style hybrid) are not elastic
+    if (!(mask[i] & groupbit) || !pair->solid_type(type[i])) {
       for (int c = 0; c < MAX(size_peratom_cols, 1); c++) out[c] = 0.0;
       continue;
     }

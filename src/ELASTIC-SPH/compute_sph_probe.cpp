@@ -103,10 +103,11 @@ ComputeSPHProbe::~ComputeSPHProbe()
 
 void ComputeSPHProbe::init()
 {
-  pair = dynamic_cast<PairSPHElastic *>(force->pair);
+  pair = PairSPHElastic::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
-               "Compute sph/probe requires pair style sph/icb or sph/ccb");
+               "Compute sph/probe requires pair style sph/icb or sph/ccb (alone or as a sub-style "
+               "of pair_style hybrid/overlay)");
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE, "Compute sph/probe requires atom_style sph/elastic");
   fit_radius = (radius > 0.0) ? radius : RADIUS_IN_H * pair->get_partners()->get_kernel().h;
@@ -154,8 +155,11 @@ void ComputeSPHProbe::compute_array()
   const SPHElastic::Kernel &kernel = pair->get_partners()->get_kernel();
   const double to_kernel = kernel.support() / fit_radius;
 
+  const int *type = atom->type;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit) || (mask[i] & excluded_groups)) continue;
+    // mirror atoms, and atoms of other pair styles' types (pair_style hybrid)
+    if (!(mask[i] & groupbit) || (mask[i] & excluded_groups) || !pair->solid_type(type[i]))
+      continue;
     double value[NCOLS];
     double unwrap[3];
     domain->unmap(x[i], image[i], unwrap);

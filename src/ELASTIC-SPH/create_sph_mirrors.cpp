@@ -195,7 +195,7 @@ void CreateSPHMirrors::command(int narg, char **arg)
 
 double CreateSPHMirrors::default_depth(const SPHElastic::MirrorSurface &surface, int bodybit) const
 {
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  auto *pair = PairSPHICB::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_mirrors needs 'depth D' (at least the kernel support 2h and three "

@@ -29,7 +29,7 @@
 #include "neigh_list.h"
 #include "neigh_request.h"
 #include "neighbor.h"
-#include "pair.h"
+#include "pair_sph_elastic.h"
 #include "respa.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -37,6 +37,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -148,22 +149,26 @@ void FixSPHContact::init_list(int /*id*/, NeighList *ptr)
 }
 
 /* ----------------------------------------------------------------------
-   k per type pair from the pair style's bulk moduli: springs in series
+   k per type pair from the pair style's bulk moduli: springs in series.
+   Every type of the group's atoms needs its material: under pair_style
+   hybrid the other sub-styles' types have none, and contact acts between
+   elastic bodies only
 ------------------------------------------------------------------------- */
 
 void FixSPHContact::set_stiffness()
 {
   int dim = 0;
-  auto *bulk = force->pair ? (double *) force->pair->extract("bulk", dim) : nullptr;
+  PairSPHElastic *pair = PairSPHElastic::find(lmp);
+  auto *bulk = pair ? (double *) pair->extract("bulk", dim) : nullptr;
   if (!bulk || dim != 1)
     error->all(FLERR, Error::NOLASTLINE,
-               "Fix sph/contact takes the bulk moduli of pair_style sph/icb or sph/ccb; define "
-               "one of them first");
+               "Fix sph/contact takes the bulk moduli of pair_style sph/icb or sph/ccb (alone or "
+               "as a sub-style of pair_style hybrid/overlay); define one of them first");
   double t = 1.0;
   if (domain->dimension == 2) {
     t = thickness;
     if (t <= 0.0) {
-      auto *pair_t = (double *) force->pair->extract("thickness", dim);
+      auto *pair_t = (double *) pair->extract("thickness", dim);
       if (pair_t) t = *pair_t;
     }
     if (t <= 0.0)
@@ -172,17 +177,25 @@ void FixSPHContact::set_stiffness()
                  "pair style");
   }
   const int ntypes = atom->ntypes;
+  std::vector<int> present(ntypes + 1, 0), present_all(ntypes + 1, 0);
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) present[atom->type[i]] = 1;
+  MPI_Allreduce(present.data(), present_all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+  for (int a = 1; a <= ntypes; a++)
+    if (present_all[a] && !pair->solid_type(a))
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix {} sph/contact: group {} holds atoms of type {}, which has no material of "
+                 "pair style {}: contact acts between elastic bodies; give the type its material "
+                 "with pair_coeff, or leave it out of the group",
+                 id, group->names[igroup], a, pair->style_name());
   memory->destroy(stiffness);
   memory->create(stiffness, ntypes + 1, ntypes + 1, "sph/contact:stiffness");
   const double scale = std::pow(contact_dx, domain->dimension - 2) * t;
   for (int a = 1; a <= ntypes; a++)
-    for (int b = 1; b <= ntypes; b++) {
-      if (bulk[a] <= 0.0 || bulk[b] <= 0.0)
-        error->all(FLERR, Error::NOLASTLINE,
-                   "Fix sph/contact: no material for atom type {}; set it with pair_coeff",
-                   bulk[a] <= 0.0 ? a : b);
-      stiffness[a][b] = scale * bulk[a] * bulk[b] / (bulk[a] + bulk[b]);
-    }
+    for (int b = 1; b <= ntypes; b++)
+      stiffness[a][b] = (bulk[a] > 0.0 && bulk[b] > 0.0)
+          ? scale * bulk[a] * bulk[b] / (bulk[a] + bulk[b])
+          : 0.0;    // a type no atom of the group has
 }
 
 /* ----------------------------------------------------------------------
@@ -210,7 +223,8 @@ int FixSPHContact::count_bodies()
 void FixSPHContact::check_reach()
 {
   // the ghost cut-off is set after the fixes are initialised; it will be
-  // the pair cut-off plus the skin unless comm_modify cutoff asks for more
+  // the pair cut-off (under hybrid the largest of all sub-styles') plus the
+  // skin unless comm_modify cutoff asks for more
   const double reach = contact_dx + neighbor->skin;
   const double ghost_cut = std::max(force->pair->cutforce + neighbor->skin, comm->cutghostuser);
   if (multibody && ghost_cut < reach)

@@ -53,7 +53,7 @@ int FixSPHMinimizeCheck::setmask()
 void FixSPHMinimizeCheck::post_run()
 {
   if (update->whichflag != 2) return;
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair);
+  auto *pair = PairSPHICB::find(lmp);
   if (!pair) return;
   refuse_inverted(pair);
   report_residual(pair);

@@ -36,7 +36,7 @@
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
-#include "pair_sph_elastic.h"
+#include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -197,7 +197,7 @@ void FixSPHMirror::init()
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires reference positions: use atom_style sph/elastic");
-  if (!force->pair_match("sph/icb", 1))
+  if (!PairSPHICB::find(lmp))
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires pair_style sph/icb; to clamp a body integrated by "
                "another pair style, hold the clamp atoms with fix setforce");
@@ -228,7 +228,7 @@ void FixSPHMirror::init()
 
 void FixSPHMirror::setup_pre_force(int /*vflag*/)
 {
-  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
+  auto *pair = PairSPHICB::find(lmp);
   FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
   if (partners && !partners->built())
     partners->build_with_mirrors();
@@ -376,6 +376,24 @@ void FixSPHMirror::pair_up()
   double **x0 = atom->x0;
   for (int i = 0; i < nlocal; i++) source_tag[i] = 0;
 
+  // mirror atoms and sources belong to the elastic body: atoms of the types
+  // of the pair style's other sub-styles (pair_style hybrid) are neither
+  auto *pair = PairSPHICB::find(lmp);
+  const int *type = atom->type;
+  auto solid = [&](int i) {
+    return !pair || pair->solid_type(type[i]);
+  };
+  tagint not_solid = 0, not_solid_all = 0;
+  for (int i = 0; i < nlocal && !not_solid; i++)
+    if ((mask[i] & groupbit) && !solid(i)) not_solid = tag[i];
+  MPI_Allreduce(&not_solid, &not_solid_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  if (not_solid_all)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix {} sph/mirror: atom {} of group {} has a type without a material of pair "
+               "style sph/icb: mirror atoms are images of the elastic body, so give them its type "
+               "(pair_coeff I I sph/icb E nu) or leave them out of the group",
+               id, not_solid_all, group->names[igroup]);
+
   double depth_max = 0.0, depth_min = std::numeric_limits<double>::max();
   double sides_mine[2] = {0.0, 0.0};    // mirror atoms at distance > 0, < 0
   bigint nmirror_mine = 0, nmirror_all;
@@ -420,7 +438,6 @@ void FixSPHMirror::pair_up()
 
   // atoms of every mirror group (this one's and other fixes') are no
   // sources: a mirror of a mirror is not supported
-  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
   FixSPHPartners *partners = pair ? pair->get_partners() : nullptr;
   const int other_mirrors = FixSPHPartners::mirror_groups(modify) & ~groupbit;
   pairing.tol = tol;
@@ -439,7 +456,7 @@ void FixSPHMirror::pair_up()
                  "Fix {} sph/mirror: atom {} belongs to the groups of two sph/mirror fixes; where "
                  "two mirror surfaces meet, leave the corner empty",
                  id, tag[i]);
-    if (!mirror && (mask[i] & other_mirrors)) continue;
+    if (!mirror && ((mask[i] & other_mirrors) || !solid(i))) continue;
     if (!mirror && std::fabs(surface.signed_distance(x0[i])) > 2.0 * dmax + tol) continue;
     PairingDatum d;
     d.tag = tag[i];
@@ -702,9 +719,10 @@ void FixSPHMirror::warn_if_atoms_behind(double reach)
     }
   MPI_Allreduce(bodies, bodies_all, 2, MPI_LMP_TAGINT, MPI_MIN, world);
   const int mirrorbits = FixSPHPartners::mirror_groups(modify);
+  const auto *pair = PairSPHICB::find(lmp);
   bigint behind = 0, behind_all = 0;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (mask[i] & mirrorbits) continue;
+    if ((mask[i] & mirrorbits) || (pair && !pair->solid_type(atom->type[i]))) continue;
     const double beyond = -surface.signed_distance(x0[i]) * body_side;    // > 0 behind it
     if (beyond > 0.0 && beyond <= reach && molecule[i] >= bodies_all[0] &&
         molecule[i] <= -bodies_all[1])
@@ -754,7 +772,7 @@ void FixSPHMirror::copy_volume(tagint mirror, double volume, double mass)
   const int i = atom->map(mirror);
   if (i < 0 || i >= atom->nlocal) return;
   if (atom->vfrac[i] == volume && atom->rmass[i] == mass) return;
-  auto *pair = dynamic_cast<PairSPHElastic *>(force->pair_match("sph/icb", 1));
+  auto *pair = PairSPHICB::find(lmp);
   if (pair && pair->get_partners() && pair->get_partners()->built())
     error->one(FLERR, Error::NOLASTLINE,
                "Fix {} sph/mirror: mirror atom {} has volume {} and mass {} but its source {} "

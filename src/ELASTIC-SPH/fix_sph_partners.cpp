@@ -27,6 +27,7 @@
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
+#include "neigh_request.h"
 #include "neighbor.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
@@ -129,6 +130,7 @@ void FixSPHPartners::pre_exchange()
   double **x = atom->x;
   const double limit = BLOWUP_SUPPORTS * kernel.support();
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid(i)) continue;
     bool finite = true;
     for (int a = 0; a < 3; a++) finite = finite && std::isfinite(x[i][a]);
     int worst = -1;
@@ -159,6 +161,13 @@ void FixSPHPartners::pre_exchange()
 
 /* ---------------------------------------------------------------------- */
 
+bool FixSPHPartners::solid(int i) const
+{
+  return solid_types.empty() || solid_types[atom->type[i]];
+}
+
+/* ---------------------------------------------------------------------- */
+
 int FixSPHPartners::mirror_groups(Modify *modify)
 {
   int bits = 0;
@@ -170,7 +179,14 @@ int FixSPHPartners::mirror_groups(Modify *modify)
 
 void FixSPHPartners::init()
 {
-  if (first) neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
+  // the partners are found among the current neighbours within the
+  // support plus the skin.  That is the pair style's own neighbour cut-off,
+  // and then LAMMPS builds the list as without a cut-off of its own; under
+  // pair_style hybrid the cut-off of a pair of solid types may be another
+  // sub-style's
+  if (first)
+    neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL)
+        ->set_cutoff(kernel.support() + neighbor->skin);
   // the fixes of a run or minimize (not of write_data's or similar inits)
   if (update->whichflag != 0) {
     SPHElastic::refuse_dynamics_only_fixes(lmp);
@@ -284,8 +300,13 @@ static uint64_t mix(uint64_t z)
 
 FixSPHPartners::Fingerprint FixSPHPartners::fingerprint() const
 {
+  // of the solid atoms: under pair_style hybrid the other atoms (a fluid)
+  // may come and go
   uint64_t mine[2] = {0, 0}, all[2];
+  bigint nsolid = 0;
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid(i)) continue;
+    nsolid++;
     uint64_t bits;
     std::memcpy(&bits, &atom->vfrac[i], sizeof(bits));
     const uint64_t id = mix(static_cast<uint64_t>(atom->tag[i]));
@@ -294,7 +315,7 @@ FixSPHPartners::Fingerprint FixSPHPartners::fingerprint() const
   }
   MPI_Allreduce(mine, all, 2, MPI_UINT64_T, MPI_SUM, world);
   Fingerprint fp;
-  fp.natoms = atom->natoms;
+  MPI_Allreduce(&nsolid, &fp.natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   fp.mirror_fixes = static_cast<int>(modify->get_fix_by_style("^sph/mirror$").size());
   fp.volumes = all[0];
   fp.molecules = all[1];
@@ -317,19 +338,25 @@ void FixSPHPartners::check_reference_unchanged()
     known_origin = true;
     return;
   }
+  // under pair_style hybrid the counts and IDs are of the solid types' atoms
+  bool all_solid = true;
+  for (size_t t = 1; t < solid_types.size(); t++) all_solid = all_solid && solid_types[t];
+  const std::string which = all_solid ? "" : " of the solid types (with an sph material)";
   if (now.natoms != built_from.natoms)
     error->all(FLERR, Error::NOLASTLINE,
-               "There are {} atoms, but the reference partners were built for {}: atoms were {} "
-               "after the first run or minimize (delete_atoms, create_atoms, read_data add, or "
-               "atoms lost through a fixed boundary); make the body complete before the first "
+               "There are {} atoms{}, but the reference partners were built for {}: atoms were "
+               "{} after the first run or minimize (delete_atoms, create_atoms, read_data add, "
+               "atoms lost through a fixed boundary{}); make the body complete before the first "
                "run, or recreate it",
-               now.natoms, built_from.natoms,
-               now.natoms > built_from.natoms ? "created" : "deleted or lost");
+               now.natoms, which, built_from.natoms,
+               now.natoms > built_from.natoms ? "created" : "deleted or lost",
+               all_solid ? "" : ", or atoms or pair_coeff changed a type");
   if (now.molecules != built_from.molecules)
     error->all(FLERR, Error::NOLASTLINE,
-               "Molecule IDs changed after the reference partners were built (set ... mol): "
+               "Molecule IDs{} changed after the reference partners were built (set ... mol{}): "
                "they tell the bodies apart, which is fixed at the first run or minimize; set them "
-               "before it");
+               "before it",
+               which, all_solid ? "" : ", or set ... type");
   if (built_from.mirror_fixes > 0 && now.mirror_fixes == 0)
     error->all(FLERR, Error::NOLASTLINE,
                "The reference partners were built with fix sph/mirror, which is not defined now: "
@@ -386,6 +413,7 @@ void FixSPHPartners::check_volumes_tile_the_body()
   double largest = 0.0;    // the largest S, at atom id
   tagint id = 0;
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid(i)) continue;
     double sum = vfrac[i] * kernel.value(0.0);
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);
@@ -502,7 +530,7 @@ void FixSPHPartners::check_periodic_length() const
   // keeps their reference positions, whose distances across the boundary
   // then hold in the old box only
   // a rank that created or read no atom has no record: take any rank's
-  const auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->avec);
+  const auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->style_match("sph/elastic"));
   double recorded[4] = {0.0, 0.0, 0.0, 0.0}, reference[4];
   if (avec && avec->reference_box_known()) {
     for (int a = 0; a < 3; a++) recorded[a] = avec->reference_length(a);
@@ -512,6 +540,7 @@ void FixSPHPartners::check_periodic_length() const
   if (reference[3] == 0.0) return;
   double moved = 0.0, moved_all = 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid(i)) continue;
     double unwrap[3];
     domain->unmap(atom->x[i], atom->image[i], unwrap);
     for (int a = 0; a < 3; a++) moved = std::max(moved, std::fabs(unwrap[a] - atom->x0[i][a]));
@@ -534,7 +563,8 @@ void FixSPHPartners::check_periodic_length() const
 /* ----------------------------------------------------------------------
    partners of owned atom i: atoms of the same body whose reference
    distance is below the kernel support, sorted by atom ID so that sums
-   run in the same order on any number of processors
+   run in the same order on any number of processors.  Solid atoms only:
+   under pair_style hybrid the other atoms have none and are none
 ------------------------------------------------------------------------- */
 
 void FixSPHPartners::collect_partners()
@@ -554,11 +584,13 @@ void FixSPHPartners::collect_partners()
   Overlap overlap;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
+    if (!solid(i)) continue;
     const int *jlist = list->firstneigh[i];
     double nearest_own = INFINITY, nearest_other = INFINITY;
     tagint other = 0;
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
+      if (!solid(j)) continue;
       if (molecule[j] != molecule[i]) {
         const double d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
         const double rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
@@ -696,6 +728,10 @@ void FixSPHPartners::compute_corrections()
   };
 
   for (int i = 0; i < nlocal; i++) {
+    if (!solid(i)) {    // no partners, no gradients
+      for (int a = 0; a < NCORR; a++) lcorr[i][a] = 0.0;
+      continue;
+    }
     MomentMatrix moment = MomentMatrix::Zero(nbasis, nbasis);
     for (int k = 0; k < npartner[i]; k++) {
       const int j = find_partner(i, k);

@@ -25,6 +25,7 @@ FixStyle(SPH_PARTNERS,FixSPHPartners);
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -81,6 +82,12 @@ class FixSPHPartners : public Fix {
   void set_failure_advice(std::function<std::string()> advice) { failure_advice = advice; }
   // refuse a pair style that cannot continue from a state another style built
   void set_builder(const char *, bool needs_own_state);
+  // the atom types with a material of the pair style (flag per type, index
+  // 0 unused): only their atoms have partners.  All types unless the pair
+  // style is a sub-style of pair_style hybrid
+  void set_solid_types(const std::vector<char> &solid) { solid_types = solid; }
+  // true if owned or ghost atom i is of a solid type
+  bool solid(int i) const;
   bool built() const { return !first; }
   // the first build: every fix sph/mirror pairs up (copying its sources'
   // volumes) and puts its mirrors where no displacement of its surface
@@ -123,8 +130,9 @@ class FixSPHPartners : public Fix {
     uint64_t volumes = 0, molecules = 0;
     int mirror_fixes = 0;    // fix sph/mirror instances
   } built_from;
-  int builder;          // 0 unknown, 1 sph/icb, 2 sph/ccb
-  bool known_origin;    // false for partners from a restart file without the above
+  std::vector<char> solid_types;    // per type, from the pair style; empty = all
+  int builder;                      // 0 unknown, 1 sph/icb, 2 sph/ccb
+  bool known_origin;                // false for partners from a restart file without the above
   class NeighList *list;
   SPHElastic::Kernel kernel;
   int order;         // polynomial order the corrected gradient is exact for

@@ -173,7 +173,7 @@ int FixSPHTraction::setmask()
 
 void FixSPHTraction::init()
 {
-  pair = dynamic_cast<PairSPHICB *>(force->pair_match("sph/icb", 1));
+  pair = PairSPHICB::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/traction requires pair_style sph/icb: its loads balance that scheme's "
@@ -248,7 +248,8 @@ void FixSPHTraction::find_side()
   bigint side[2] = {0, 0}, side_all[2];
   double extent[2] = {-INFINITY, -INFINITY}, extent_all[2];    // max and -min of X along axis
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit) || (mask[i] & mirrorbits)) continue;
+    if (!(mask[i] & groupbit) || (mask[i] & mirrorbits) || !pair->solid_type(atom->type[i]))
+      continue;
     side[plane > x0[i][axis] ? 0 : 1]++;
     extent[0] = std::max(extent[0], x0[i][axis]);
     extent[1] = std::max(extent[1], -x0[i][axis]);
@@ -360,7 +361,7 @@ double FixSPHTraction::opposite_side(double group_far, bool &behind_group) const
   int behind = 0, behind_all = 0;
   double body_far = -INFINITY, body_far_all = -INFINITY;    // farthest body atom, along inward
   for (int i = 0; i < atom->nlocal; i++) {
-    if (mask[i] & mirrorbits) continue;
+    if ((mask[i] & mirrorbits) || !pair->solid_type(atom->type[i])) continue;
     const double depth = (x0[i][axis] - group_far) * inward;
     if (!(mask[i] & groupbit) && depth > tol && depth <= support) behind = 1;
     if ((plane - x0[i][axis]) * normal[axis] >= 0.0)    // on the body's side of the face
@@ -508,6 +509,7 @@ void FixSPHTraction::build_coefficients()
   for (int i = 0; i < atom->nlocal; i++) {
     // a mirror atom's share is its source's: taken where the source is in
     // the group, whichever groups the mirror atom itself is in
+    if (!pair->solid_type(atom->type[i])) continue;    // another pair style's atom
     const bool is_mirror = mask[i] & mirrorbits;
     const FixSPHMirror *owner = is_mirror ? mirror_owner(mirrors, mask[i], i) : nullptr;
     if (is_mirror && !owner) continue;

@@ -104,10 +104,11 @@ int MinSPHNewton::modify_param(int narg, char **arg)
 
 void MinSPHNewton::check_style()
 {
-  pair = dynamic_cast<PairSPHICB *>(force->pair);
+  pair = PairSPHICB::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE,
-               "Min_style sph/newton requires pair_style sph/icb (use min_style cg otherwise)");
+               "Min_style sph/newton requires pair_style sph/icb, alone or as a sub-style of "
+               "pair_style hybrid/overlay (use min_style cg otherwise)");
   if (!atom->tag_enable)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires atom IDs");
   if ((double) atom->natoms * domain->dimension > INT_MAX / 2)
@@ -177,7 +178,7 @@ void MinSPHNewton::start()
           "equilibrium, Newton-Krylov (GMRES on J v by force differences, "
           "preconditioned by the pk1 Hessian, backtracking on |f|^2; etol is not used)\n");
   }
-  fd_length = FD_RELATIVE * force->pair->cutforce;
+  fd_length = FD_RELATIVE * pair->get_kernel().support();
   ecurrent = energy_force(0);
   neval++;
 }

@@ -124,6 +124,13 @@ int PairSPHCCB::parse_keyword(int iarg, int narg, char **arg)
 
 void PairSPHCCB::init_style()
 {
+  if (is_substyle())
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style sph/ccb cannot be a sub-style of pair_style {}: it evolves its "
+               "density in the per-atom rho, which SPH fluids (pair styles rheo, sph/...) own and "
+               "overwrite, with fix sph/ccb/nve as its integrator; use pair style sph/icb, whose "
+               "state is the reference partners alone",
+               force->pair_style);
   PairSPHElastic::init_style();
   const int dim = domain->dimension;
 

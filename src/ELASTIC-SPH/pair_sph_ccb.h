@@ -46,6 +46,7 @@ class PairSPHCCB : public PairSPHElastic {
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
   bool has_green() const override { return false; }
+  const char *style_name() const override { return "sph/ccb"; }
   void compute_rates(double back);    // drho, dtau of owned atoms from v, at x - back v
 
   double **dtau;    // rate of the deviatoric stress of owned atoms (Voigt), for the integrator
@@ -67,7 +68,6 @@ class PairSPHCCB : public PairSPHElastic {
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;
-  const char *style_name() const override { return "sph/ccb"; }
   bool needs_own_state() const override { return true; }
   // measured on a vibrating block (h = 1.2 dx, sinc5): unstable from 1.8 h/c
   double stable_fraction() const override { return 1.0; }

@@ -120,6 +120,13 @@ void PairSPHElastic::allocate()
   for (int i = 0; i < n; i++) youngs[i] = poisson[i] = bulk[i] = 0.0;
   materials.clear();
   materials.resize(n);
+  // which types have a material is materials[t].  A sub-style of hybrid
+  // sets setflag[t][t] for those types only: hybrid maps the types to it by
+  // them.  A plain style marks all of them, so that a type without a
+  // material reaches check_coefficients(), which names it, instead of
+  // Pair::init()'s "All pair coeffs are not set"
+  if (!is_substyle())
+    for (int i = 1; i < n; i++) setflag[i][i] = 1;
 }
 
 /* ----------------------------------------------------------------------
@@ -272,16 +279,56 @@ double PairSPHElastic::init_one(int /*i*/, int /*j*/)
 }
 
 /* ----------------------------------------------------------------------
-   every atom type needs its material
+   this package's pair style: force->pair, or a sub-style of hybrid
+------------------------------------------------------------------------- */
+
+PairSPHElastic *PairSPHElastic::find(LAMMPS *lmp)
+{
+  for (const char *name : {"sph/icb", "sph/ccb"})
+    if (auto *pair = dynamic_cast<PairSPHElastic *>(lmp->force->pair_match(name, 1))) return pair;
+  return nullptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool PairSPHElastic::is_substyle() const
+{
+  return force->pair != this;
+}
+
+/* ----------------------------------------------------------------------
+   under a plain pair style every atom type needs its material; under
+   pair_style hybrid or hybrid/overlay the types without one are left to
+   the other sub-styles (hybrid itself refuses a sub-style that no
+   pair_coeff uses)
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::check_coefficients()
 {
+  if (is_substyle()) return;
   for (int t = 1; t <= atom->ntypes; t++)
-    if (!allocated || !setflag[t][t])
+    if (!solid_type(t))
       error->all(FLERR, Error::NOLASTLINE,
-                 "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu",
-                 style_name(), t, t, t);
+                 "Pair style {}: material of atom type {} not set, use pair_coeff {} {} E nu.  "
+                 "Under a plain pair_style {} every atom type is elastic and needs one; to leave "
+                 "types to another pair style (a fluid, a wall), use pair_style hybrid/overlay "
+                 "with 'pair_coeff I I {} E nu' for the elastic types only",
+                 style_name(), t, t, t, style_name(), style_name());
+}
+
+/* ----------------------------------------------------------------------
+   one instance of the package's pair styles per run: they share the
+   reference partners (one internal fix with a fixed ID)
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::check_single_instance()
+{
+  // pair_match() finds no sub-style of a name that is used more than once
+  if (is_substyle() && force->pair_match(style_name(), 1) != this)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Pair style {} appears more than once in pair_style {}: one sub-style of sph/icb "
+               "holds all elastic types, each with its own material (pair_coeff I I {} E nu)",
+               style_name(), force->pair_style, style_name());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -302,6 +349,7 @@ void PairSPHElastic::init_style()
   else
     kinematics = (plane == PLANE_STRESS) ? SPHElastic::Kinematics::PLANE_STRESS
                                          : SPHElastic::Kinematics::PLANE_STRAIN;
+  check_single_instance();
   check_coefficients();
   check_units();
   check_atoms();
@@ -340,6 +388,7 @@ void PairSPHElastic::check_material()
   double range[2] = {1.0e300, -1.0e300};    // min, -max of rho0 in kg/m^3
   tagint ids[2] = {0, 0};
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid_type(atom->type[i])) continue;
     const double rho0 = atom->rmass[i] / atom->vfrac[i] * kg_per_m3;
     if (rho0 < range[0]) {
       range[0] = rho0;
@@ -369,7 +418,7 @@ void PairSPHElastic::check_material()
   }
 
   for (int t = 1; t <= atom->ntypes; t++) {
-    if (!setflag[t][t]) continue;
+    if (!solid_type(t)) continue;
     const double e = youngs[t] * pascal;
     if ((e < E_MIN || e > E_MAX) && comm->me == 0)
       error->warning(FLERR,
@@ -460,6 +509,9 @@ void PairSPHElastic::connect_partners()
   if (!partners)
     error->all(FLERR, Error::NOLASTLINE, "Fix ID {} is reserved for pair style {}", PARTNERS_ID,
                style_name());
+  std::vector<char> solid(atom->ntypes + 1, 0);
+  for (int t = 1; t <= atom->ntypes; t++) solid[t] = solid_type(t) ? 1 : 0;
+  partners->set_solid_types(solid);
   partners->set_builder(style_name(), needs_own_state());
   partners->set_kernel(kernel, style_name());
   partners->set_gradient_order(gradient_order, style_name());
@@ -469,16 +521,18 @@ void PairSPHElastic::connect_partners()
 }
 
 /* ----------------------------------------------------------------------
-   reference volume and mass must be positive: they are set with
-   "set ... volume" and "set ... mass" or read from the data file
+   reference volume and mass of the solid atoms must be positive: they are
+   set with "set ... volume" and "set ... mass" or read from the data file
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::check_atoms()
 {
   const double *vfrac = atom->vfrac;
   const double *rmass = atom->rmass;
+  const int *type = atom->type;
   tagint bad[2] = {0, 0};    // first atom ID with bad volume, bad mass
   for (int i = 0; i < atom->nlocal; i++) {
+    if (!solid_type(type[i])) continue;
     if (!(vfrac[i] > 0.0) && bad[0] == 0) bad[0] = atom->tag[i];
     if (!(rmass[i] > 0.0) && bad[1] == 0) bad[1] = atom->tag[i];
   }
@@ -498,7 +552,7 @@ void PairSPHElastic::check_atoms()
 
 /* ----------------------------------------------------------------------
    largest longitudinal wave speed c = sqrt((lambda + 2 mu)/rho0) of the
-   materials at rest over all particles; the stable time step is
+   materials at rest over all solid particles; the stable time step is
    dt <= C h / c with C of order 0.1-0.3
 ------------------------------------------------------------------------- */
 
@@ -509,7 +563,8 @@ void PairSPHElastic::compute_stable_dt()
   const int *type = atom->type;
   double cmax = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
-    cmax = MAX(cmax, std::sqrt(materials[type[i]]->pwave_modulus() * vfrac[i] / rmass[i]));
+    if (solid_type(type[i]))
+      cmax = MAX(cmax, std::sqrt(materials[type[i]]->pwave_modulus() * vfrac[i] / rmass[i]));
   double all;
   MPI_Allreduce(&cmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   dt_unit = (all > 0.0) ? kernel.h / all : 0.0;
@@ -537,7 +592,7 @@ void PairSPHElastic::write_restart(FILE *fp)
   for (int i = 1; i <= atom->ntypes; i++) {
     // 0: unset; else 1 + the law's registered index (files of versions
     // without laws wrote setflag = 1, i.e. svk)
-    int code = setflag[i][i] ? 1 + SPHElastic::material_index(materials[i]->name()) : 0;
+    int code = solid_type(i) ? 1 + SPHElastic::material_index(materials[i]->name()) : 0;
     fwrite(&code, sizeof(int), 1, fp);
     if (code) {
       fwrite(&youngs[i], sizeof(double), 1, fp);
@@ -614,7 +669,7 @@ void PairSPHElastic::write_data(FILE *fp)
 {
   for (int i = 1; i <= atom->ntypes; i++)
     fprintf(fp, "%d %.15g %.15g %s\n", i, youngs[i], poisson[i],
-            setflag[i][i] ? materials[i]->name() : "svk");
+            solid_type(i) ? materials[i]->name() : "svk");
 }
 
 /* ----------------------------------------------------------------------
@@ -626,7 +681,7 @@ void PairSPHElastic::write_data_all(FILE *fp)
 {
   for (int i = 1; i <= atom->ntypes; i++) {
     fprintf(fp, "%d %d %.15g %.15g %s\n", i, i, youngs[i], poisson[i],
-            setflag[i][i] ? materials[i]->name() : "svk");
+            solid_type(i) ? materials[i]->name() : "svk");
     for (int j = i + 1; j <= atom->ntypes; j++) fprintf(fp, "%d %d none\n", i, j);
   }
 }

@@ -72,6 +72,18 @@ class PairSPHElastic : public Pair {
   // what to tell a user whose run failed at this step: the timestep against
   // the stable estimate
   std::string instability_advice() const;
+  virtual const char *style_name() const = 0;
+
+  // this package's pair style in the run: force->pair itself, or its
+  // sub-style of pair_style hybrid or hybrid/overlay; nullptr if there is none
+  static PairSPHElastic *find(class LAMMPS *);
+  // true if this style is a sub-style of pair_style hybrid or hybrid/overlay
+  bool is_substyle() const;
+  // the solid (elastic) atom types: those with a material from pair_coeff.
+  // Under a plain pair style that is every type; under hybrid the others
+  // belong to the other sub-styles (a fluid, walls) and their atoms have no
+  // partners, stress or strain energy
+  bool solid_type(int t) const { return allocated && materials[t]; }
 
  protected:
   SPHElastic::Kernel kernel;    // h and the kernel asked for (the partners hold the built one)
@@ -93,7 +105,6 @@ class PairSPHElastic : public Pair {
   virtual int parse_keyword(int iarg, int narg, char **arg) = 0;
   // the defaults of the derived style's keywords, before they are parsed
   virtual void set_style_defaults() = 0;
-  virtual const char *style_name() const = 0;
   // true if the style evolves a state of its own that another style's run
   // would leave stale
   virtual bool needs_own_state() const { return false; }
@@ -103,6 +114,7 @@ class PairSPHElastic : public Pair {
   double advised_dt() const;
   void check_units();
   void check_coefficients();
+  void check_single_instance();
   void set_material(int t, const std::string &law, double e, double nu);
   void check_material();
   void report_stable_dt();

@@ -95,6 +95,13 @@ PairSPHICB::~PairSPHICB()
   memory->destroy(jlocal);
 }
 
+/* ---------------------------------------------------------------------- */
+
+PairSPHICB *PairSPHICB::find(LAMMPS *lmp)
+{
+  return dynamic_cast<PairSPHICB *>(PairSPHElastic::find(lmp));
+}
+
 /* ----------------------------------------------------------------------
    the accurate scheme by default: the exact first Piola-Kirchhoff stress
    (forces are the energy's gradient) and the gradient correction exact for
@@ -231,12 +238,15 @@ void PairSPHICB::compute(int eflag, int vflag)
   else
     force_divergence<3>();
 
-  // the scale of the residual when a minimisation ends
+  // the scale of the residual when a minimisation ends (of the solid
+  // atoms: under hybrid the other atoms' forces are not elastic)
   if (update->whichflag == 2) {
     internal_fsq = 0.0;
     double *const *const f = atom->f;
+    const int *type = atom->type;
     for (int i = 0; i < nlocal; i++)
-      internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
+      if (solid_type(type[i]))
+        internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
   }
 }
 
@@ -478,6 +488,14 @@ void PairSPHICB::require_current_partners(const char *what) const
 
 double PairSPHICB::stress_pass(int i)
 {
+  // an atom of a type without a material (another sub-style's, under
+  // hybrid) has no partners: no deformation, stress or energy
+  if (!solid_type(atom->type[i])) {
+    for (int a = 0; a < 9; a++) qstress[i][a] = 0.0;
+    for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
+    pk2[i][NSYMM] = 1.0;
+    return 0.0;
+  }
   double F[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
@@ -556,6 +574,10 @@ void PairSPHICB::update_outputs()
 
 void PairSPHICB::output_of(int i)
 {
+  if (!solid_type(atom->type[i])) {    // another sub-style's atom: no stress or strain here
+    for (int v = 0; v < NSYMM; v++) cauchy[i][v] = green[i][v] = 0.0;
+    return;
+  }
   double F[3][3], S[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];

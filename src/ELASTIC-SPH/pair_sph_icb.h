@@ -45,6 +45,9 @@ class PairSPHICB : public PairSPHElastic {
   void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
   void update_outputs() override;
+  const char *style_name() const override { return "sph/icb"; }
+  // the sph/icb pair style of the run (alone or a sub-style of hybrid), or nullptr
+  static PairSPHICB *find(class LAMMPS *);
 
   // true if the forces are minus the gradient of the energy (stress pk1)
   bool has_energy() const { return measure == PK1; }
@@ -92,9 +95,14 @@ class PairSPHICB : public PairSPHElastic {
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;
-  const char *style_name() const override { return "sph/icb"; }
   // the stable timestep in units of h/c (how it was measured: the .cpp)
   double stable_fraction() const override;
+  // owned atom i has strain energy: a solid atom (see solid_type()) that is
+  // no mirror atom of fix sph/mirror (as of the last compute())
+  bool has_strain_energy(int i) const
+  {
+    return !(atom->mask[i] & mirror_groupbit) && solid_type(atom->type[i]);
+  }
   void refresh_partner_indices();
   bool partner_indices_current() const;
   void require_current_partners(const char *what) const;

@@ -60,7 +60,7 @@ void ResetSPHReference::command(int narg, char **arg)
       nmine++;
     }
   MPI_Allreduce(&nmine, &nall, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->avec);
+  auto *avec = dynamic_cast<AtomVecSPHElastic *>(atom->style_match("sph/elastic"));
   if (avec) avec->record_reference_box();
   if (comm->me == 0)
     utils::logmesg(lmp, "Reset the reference positions of {} atoms in group {}\n", nall, arg[0]);

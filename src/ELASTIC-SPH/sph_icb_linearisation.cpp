@@ -101,7 +101,7 @@ void ICBLinearisation::hessian(const BlockSink &add) const
   pair.require_current_partners("the Hessian");
   const int mp = pair.partners->maxpartner;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & pair.mirror_groupbit)) strain_hessian(i, &pair.jlocal[i * mp], add);
+    if (pair.has_strain_energy(i)) strain_hessian(i, &pair.jlocal[i * mp], add);
     if (pair.hourglass > 0.0) hourglass_hessian(i, &pair.jlocal[i * mp], add);
   }
 }
@@ -207,7 +207,7 @@ void ICBLinearisation::refresh_tangents()
   const int nlocal = atom->nlocal;
   tangents.assign(81 * (size_t) nlocal, 0.0);
   for (int i = 0; i < nlocal; i++) {
-    if (atom->mask[i] & pair.mirror_groupbit) continue;    // no strain energy
+    if (!pair.has_strain_energy(i)) continue;    // a mirror atom, or not solid
     double F[3][3];
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) F[a][b] = pair.defgrad[i][3 * a + b];
@@ -295,7 +295,7 @@ template <int DIM> void ICBLinearisation::hourglass_product_pairs(double *kv)
 void ICBLinearisation::product_stress_pass(int i)
 {
   double *dQ = dqstress[i];
-  if (atom->mask[i] & pair.mirror_groupbit) {
+  if (!pair.has_strain_energy(i)) {
     for (int a = 0; a < 9; a++) dQ[a] = 0.0;
     return;
   }
@@ -373,8 +373,7 @@ void ICBLinearisation::compact_matrix(const BlockSink &add)
   std::vector<tagint> id;
   std::vector<double> G;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & pair.mirror_groupbit) &&
-        compact_stencil(i, &pair.jlocal[i * mp], id, G)) {
+    if (pair.has_strain_energy(i) && compact_stencil(i, &pair.jlocal[i * mp], id, G)) {
       for (size_t k = 1; k < id.size(); k++) id[k] = tag[id[k]];
       id[0] = tag[i];
       stencil_hessian(atom->vfrac[i], &tangents[81 * (size_t) i], id, G, add);

@@ -184,6 +184,15 @@ void NewtonDofs::find(int vflag)
   memory->destroy(expected);
   memory->destroy(size);
 
+  // the atoms of types without a material (another pair style's, under
+  // pair_style hybrid) are no unknowns of the elastic problem: held
+  const PairSPHICB *pair = PairSPHICB::find(lmp);
+  if (!pair)
+    error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires pair_style sph/icb");
+  std::vector<char> solid(nlocal);
+  for (int i = 0; i < nlocal; i++) solid[i] = pair->solid_type(atom->type[i]) ? 1 : 0;
+  require_held(status, solid, pair);
+
   // this rank's free coordinates in the order of their atoms' IDs, after
   // the other ranks' before it: on one rank the order of the IDs
   std::vector<int> order(nlocal);
@@ -260,7 +269,36 @@ void NewtonDofs::find(int vflag)
 
   if (nfree_dofs == 0)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton: every coordinate is held fixed");
-  check_rigid_modes(status, ties);
+  check_rigid_modes(status, ties, solid);
+}
+
+/* ----------------------------------------------------------------------
+   Newton solves for the elastic bodies alone: its Hessian has no terms of
+   the other pair styles of pair_style hybrid, and no atom without a
+   material may move.  Rather than hold such atoms silently (every other
+   minimiser moves them), it asks for a fix that holds them, as for any
+   atom held in a minimization
+------------------------------------------------------------------------- */
+
+void NewtonDofs::require_held(const std::vector<int> &status, const std::vector<char> &solid,
+                              const PairSPHICB *pair)
+{
+  tagint loose = 0, loose_all = 0;
+  for (int i = 0; i < atom->nlocal && !loose; i++)
+    if (!solid[i])
+      for (int a = 0; a < dim; a++)
+        if (status[3 * i + a] != HELD) loose = atom->tag[i];
+  MPI_Allreduce(&loose, &loose_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  if (!loose_all) return;
+  std::string types;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!pair->solid_type(t)) types += (types.empty() ? "" : " ") + std::to_string(t);
+  error->all(FLERR, Error::NOLASTLINE,
+             "Min_style sph/newton: atom {} is of a type without a material of pair style sph/icb "
+             "(types {}), and no fix holds it: Newton solves for the elastic bodies only.  Hold "
+             "the other atoms during the minimization, e.g. 'group others type {}' and 'fix hold "
+             "others setforce 0.0 0.0 0.0' (unfix it after), or use min_style cg",
+             loose_all, types, types);
 }
 
 /* ----------------------------------------------------------------------
@@ -284,7 +322,7 @@ void NewtonDofs::sync() const
     for (int k = 0; k < WIDTH; k++) cache[i][k] = records[WIDTH * i + k];
   // the pair's forward communication carries 9 values per atom at most:
   // one coordinate's 8 at a time
-  auto *pair = dynamic_cast<PairSPHICB *>(force->pair);
+  auto *pair = PairSPHICB::find(lmp);
   if (!pair)
     error->all(FLERR, Error::NOLASTLINE, "Min_style sph/newton requires pair_style sph/icb");
   std::vector<double *> rows(std::max(nall, 1));
@@ -412,13 +450,15 @@ int NewtonDofs::own_index(int i, int a) const
    that no row sees is free.
 ------------------------------------------------------------------------- */
 
-void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::vector<double> &ties)
+void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::vector<double> &ties,
+                                   const std::vector<char> &solid)
 {
   const int nlocal = atom->nlocal;
   const tagint *mol = atom->molecule;
   double **x = atom->x;
   tagint mymax = 0, nmol = 0;
-  for (int i = 0; i < nlocal; i++) mymax = std::max(mymax, mol[i]);
+  for (int i = 0; i < nlocal; i++)
+    if (solid[i]) mymax = std::max(mymax, mol[i]);
   MPI_Allreduce(&mymax, &nmol, 1, MPI_LMP_TAGINT, MPI_MAX, world);
   if (nmol > MAX_BODIES_CHECKED) return;
   const int nb = nmol + 1;
@@ -427,6 +467,7 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::ve
   // centroid and size of each body
   std::vector<double> sums(4 * nb, 0.0), centroid(4 * nb);
   for (int i = 0; i < nlocal; i++) {
+    if (!solid[i]) continue;    // held, and in no elastic body
     double *row = &sums[4 * mol[i]];
     for (int a = 0; a < 3; a++) row[a] += x[i][a];
     row[3] += 1.0;
@@ -436,6 +477,7 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::ve
     for (int a = 0; a < 3; a++) centroid[4 * b + a] /= std::max(centroid[4 * b + 3], 1.0);
   std::vector<double> reach(nb, 0.0), size(nb);
   for (int i = 0; i < nlocal; i++) {
+    if (!solid[i]) continue;
     const double *c = &centroid[4 * mol[i]];
     const double del[3] = {x[i][0] - c[0], x[i][1] - c[1], x[i][2] - c[2]};
     const double r = sqrt(del[0] * del[0] + del[1] * del[1] + del[2] * del[2]);
@@ -449,6 +491,7 @@ void NewtonDofs::check_rigid_modes(const std::vector<int> &status, const std::ve
   // exact for translations, close for rotations)
   std::vector<double> normal(nmodes * nmodes * nb, 0.0), normal_all(nmodes * nmodes * nb);
   for (int i = 0; i < nlocal; i++) {
+    if (!solid[i]) continue;
     const double *c = &centroid[4 * mol[i]];
     const double scale = size[mol[i]] > 0.0 ? 1.0 / size[mol[i]] : 0.0;
     const double d[3] = {(x[i][0] - c[0]) * scale, (x[i][1] - c[1]) * scale,

@@ -20,6 +20,7 @@
 
 namespace LAMMPS_NS {
 class FixMinimize;
+class PairSPHICB;
 
 namespace SPHElastic {
 
@@ -149,7 +150,10 @@ namespace SPHElastic {
     void scatter_add(std::vector<double> &slice) const;
 
     static double probe_value(tagint id, int a);
-    void check_rigid_modes(const std::vector<int> &status, const std::vector<double> &ties);
+    void check_rigid_modes(const std::vector<int> &status, const std::vector<double> &ties,
+                           const std::vector<char> &solid);
+    void require_held(const std::vector<int> &status, const std::vector<char> &solid,
+                      const PairSPHICB *pair);
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
