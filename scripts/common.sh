@@ -22,10 +22,31 @@ _esph_key=$(printf '%s|%s' "$ESPH_ROOT" "$LAMMPS_SOURCE_DIR" | sha1sum | cut -c1
 ESPH_BUILD=${ESPH_BUILD:-$ESPH_CACHE/build-$_esph_key}
 ESPH_VENV=${ESPH_VENV:-$ESPH_BUILD/venv}
 ESPH_LMP=$ESPH_BUILD/lmp
+# What LAMMPS is built with. RHEO (with BPM, which it needs) is there for the
+# fluid coupling of issue 35 (studies/fsi_rheo). A change to these lists
+# reaches existing trees: setup.sh re-runs cmake on a clone's own build tree
+# when the options' stamp in it differs (incremental, the venv kept), and the
+# host tree, shared by the clones, is keyed by its options, so a clone with
+# other options gets its own (ccache makes it cheap) and never rebuilds
+# another's under it. Removing an option does not unset it in an existing
+# tree's CMakeCache.txt: delete the tree for that.
+ESPH_LAMMPS_OPTIONS=(-DCMAKE_BUILD_TYPE=Release -DBUILD_MPI=on -DBUILD_OMP=off
+  -DBUILD_SHARED_LIBS=on -DLAMMPS_EXCEPTIONS=on -DDOWNLOAD_EIGEN3=off
+  -DPKG_MOLECULE=on -DPKG_MACHDYN=on -DPKG_BPM=on -DPKG_RHEO=on)
+# LAMMPS 4Feb2025 finds LAPACK for RHEO but links it into liblammps only for
+# ELECTRODE and ML-POD (its cmake/CMakeLists.txt:720-722), so a plain build
+# with RHEO fails to link lmp (dpotrf_, dpotri_ of compute rheo/kernel
+# undefined); the host gets -llapack at the end of its link lines (our
+# CMakeLists.txt does the same for the in-tree build).
+ESPH_HOST_OPTIONS=(-DCMAKE_BUILD_TYPE=Release -DBUILD_MPI=on -DBUILD_OMP=off
+  -DBUILD_SHARED_LIBS=on -DDOWNLOAD_EIGEN3=off
+  -DPKG_PLUGIN=on -DPKG_MOLECULE=on -DPKG_BPM=on -DPKG_RHEO=on
+  "-DCMAKE_CXX_STANDARD_LIBRARIES=-llapack")
+
 # The plugin route: a plain LAMMPS of the same tree with the PLUGIN package
-# (a user's LAMMPS; one per LAMMPS tree, shared by the clones), and the
-# plugin built from this clone's sources against it.
-_esph_host_key=$(printf '%s' "$LAMMPS_SOURCE_DIR" | sha1sum | cut -c1-12)
+# (a user's LAMMPS; one per LAMMPS tree and host options, shared by the
+# clones), and the plugin built from this clone's sources against it.
+_esph_host_key=$(printf '%s|%s' "$LAMMPS_SOURCE_DIR" "${ESPH_HOST_OPTIONS[*]}" | sha1sum | cut -c1-12)
 ESPH_HOST_BUILD=${ESPH_HOST_BUILD:-$ESPH_CACHE/host-$_esph_host_key}
 ESPH_PLUGIN_BUILD=${ESPH_PLUGIN_BUILD:-$ESPH_BUILD/plugin}
 ESPH_PLUGIN=$ESPH_PLUGIN_BUILD/elasticsphplugin.so

@@ -12,7 +12,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 APT_PACKAGES=(build-essential cmake ninja-build ccache pkg-config xz-utils
               libopenmpi-dev openmpi-bin libeigen3-dev libyaml-dev googletest
               python3 python3-venv python3-dev valgrind clang-format
-              libsuitesparse-dev libopenblas0-serial libpetsc-real-dev)
+              libsuitesparse-dev libopenblas0-serial libpetsc-real-dev
+              liblapack-dev libblas-dev)
 
 install_system_packages() {
   local missing=()
@@ -75,20 +76,32 @@ pack_googletest() {
   GTEST_MD5=$(md5sum "$GTEST_TARBALL" | cut -d' ' -f1)
 }
 
+# The stamp of a clone's build tree: the options it was last configured with.
+# A tree from before the stamp, or from other options, is reconfigured in
+# place: cmake with the -D flags over the existing cache, then ninja rebuilds
+# what the options touch (a new package adds its include directory to every
+# file's command line: all of LAMMPS again, mostly from ccache).
+options_stamp() { printf '%s\n' "$@" | sha1sum | cut -c1-40; }
+
 configure_and_build() {
   mkdir -p "$ESPH_BUILD"
-  if [ ! -f "$ESPH_BUILD/build.ninja" ]; then
+  local stamp="$ESPH_BUILD/esph-options.sha1" want
+  want=$(options_stamp "${ESPH_LAMMPS_OPTIONS[@]}")
+  if [ ! -f "$ESPH_BUILD/build.ninja" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     pack_googletest
     local launcher=()
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-    say "configuring LAMMPS + ELASTIC-SPH in $ESPH_BUILD"
+    if [ -f "$ESPH_BUILD/build.ninja" ]; then
+      say "reconfiguring $ESPH_BUILD: the LAMMPS options changed (ESPH_LAMMPS_OPTIONS, scripts/common.sh)"
+    else
+      say "configuring LAMMPS + ELASTIC-SPH in $ESPH_BUILD"
+    fi
     cmake -S "$ESPH_ROOT" -B "$ESPH_BUILD" -G Ninja "${launcher[@]}" \
-      -DLAMMPS_ROOT="$LAMMPS_SOURCE_DIR" -DCMAKE_BUILD_TYPE=Release \
-      -DBUILD_MPI=on -DBUILD_OMP=off -DBUILD_SHARED_LIBS=on -DLAMMPS_EXCEPTIONS=on \
-      -DPKG_MOLECULE=on -DPKG_MACHDYN=on -DDOWNLOAD_EIGEN3=off \
+      -DLAMMPS_ROOT="$LAMMPS_SOURCE_DIR" "${ESPH_LAMMPS_OPTIONS[@]}" \
       -DENABLE_TESTING=on -DGTEST_URL="file://$GTEST_TARBALL" -DGTEST_MD5="$GTEST_MD5" \
       -DPython_EXECUTABLE="$(command -v python3)" >"$ESPH_BUILD/configure.log" 2>&1 ||
       { tail -40 "$ESPH_BUILD/configure.log" >&2; die "cmake configure failed (log: $ESPH_BUILD/configure.log)"; }
+    echo "$want" >"$stamp"
   fi
   # Let ccache match objects across build trees of different clones.
   export CCACHE_BASEDIR="$ESPH_CACHE" CCACHE_NOHASHDIR=1
@@ -99,7 +112,8 @@ configure_and_build() {
 
 # The plugin route, as a user with their own LAMMPS takes it: a LAMMPS of the
 # same tree built with PKG_PLUGIN and without this package (the host), and
-# the plugin built from plugin/CMakeLists.txt against its headers.
+# the plugin built from plugin/CMakeLists.txt against its headers. The host
+# tree's name holds its options (common.sh), so it needs no stamp.
 build_plugin_route() {
   export CCACHE_BASEDIR="$ESPH_CACHE" CCACHE_NOHASHDIR=1
   local launcher=()
@@ -108,9 +122,7 @@ build_plugin_route() {
     mkdir -p "$ESPH_HOST_BUILD"
     say "configuring a plain LAMMPS with the PLUGIN package in $ESPH_HOST_BUILD"
     cmake -S "$LAMMPS_SOURCE_DIR/cmake" -B "$ESPH_HOST_BUILD" -G Ninja "${launcher[@]}" \
-      -DCMAKE_BUILD_TYPE=Release -DBUILD_MPI=on -DBUILD_OMP=off -DBUILD_SHARED_LIBS=on \
-      -DPKG_PLUGIN=on -DPKG_MOLECULE=on -DDOWNLOAD_EIGEN3=off \
-      >"$ESPH_HOST_BUILD/configure.log" 2>&1 ||
+      "${ESPH_HOST_OPTIONS[@]}" >"$ESPH_HOST_BUILD/configure.log" 2>&1 ||
       { tail -40 "$ESPH_HOST_BUILD/configure.log" >&2; die "host LAMMPS configure failed"; }
   fi
   say "building the plain LAMMPS (ninja, $ESPH_JOBS jobs)"
