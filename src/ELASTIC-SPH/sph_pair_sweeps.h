@@ -259,23 +259,26 @@ namespace SPHElastic {
       double energy_sum = 0.0;
       // in 3d each run in two passes: the pairs' terms, then i's share of Q
       // from them.  One pass would hold G_i, Q_i, f_i and u_i at once (24
-      // values), more than the registers (in 2d, 10 fit); the Q_i terms are
-      // added in the same order, so the results are those of one pass
+      // values), more than the registers (in 2d, 10 fit).  The first pass
+      // keeps each pair's Q term (the outer product, which j's Q also
+      // takes), the second sums them in the same order, so the results are
+      // those of one pass
       constexpr bool TWO_PASS = DIM == 3;
-      std::vector<double> half_kd_run;
+      constexpr int NQ = DIM * DIM;
+      std::vector<double> q_terms;
       for (int r = 0; r < nruns; r++) {
         const int i = run_atom[r];
         const int first = run_first[r], last = run_end(r);
-        if (TWO_PASS && half_kd_run.size() < (size_t) (last - first) * DIM)
-          half_kd_run.resize((size_t) (last - first) * DIM);
-        double Gi[DIM][DIM], qi[DIM][DIM], fi[DIM], ui[DIM];
+        if (TWO_PASS && q_terms.size() < (size_t) (last - first) * NQ)
+          q_terms.resize((size_t) (last - first) * NQ);
+        double Gi[DIM][DIM], qi[NQ], fi[DIM], ui[DIM];
         double *const ri = row(i);
         for (int a = 0; a < DIM; a++) {
           ui[a] = u[i][a];
           fi[a] = ri[a];
           for (int b = 0; b < DIM; b++) {
             Gi[a][b] = grad[i][3 * a + b];
-            if (!TWO_PASS) qi[a][b] = q[i][3 * a + b];
+            if (!TWO_PASS) qi[DIM * a + b] = q[i][3 * a + b];
           }
         }
         for (int p = first; p < last; p++) {
@@ -292,13 +295,14 @@ namespace SPHElastic {
             d[a] = uj[a] - ui[a] - 0.5 * gx;
           }
           const bool both = !directed_copy && j < nlocal;
-          double half_kd_pair[DIM];
-          double *const half_kd = TWO_PASS ? &half_kd_run[(size_t) (p - first) * DIM]
-                                           : half_kd_pair;
-          for (int a = 0; a < DIM; a++) half_kd[a] = 0.5 * kij * d[a];
+          double q_pair[NQ];
+          double *const qterm = TWO_PASS ? &q_terms[(size_t) (p - first) * NQ] : q_pair;
+          for (int a = 0; a < DIM; a++) {
+            const double half_kd = 0.5 * kij * d[a];
+            for (int b = 0; b < DIM; b++) qterm[DIM * a + b] = half_kd * X[b];
+          }
           if (!TWO_PASS)
-            for (int a = 0; a < DIM; a++)
-              for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
+            for (int k = 0; k < NQ; k++) qi[k] -= qterm[k];
           if (ENERGY) {
             const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             energy_sum += both ? 2.0 * e : e;
@@ -308,7 +312,7 @@ namespace SPHElastic {
           if (both) {
             double *qj = q[j];
             for (int a = 0; a < DIM; a++)
-              for (int b = 0; b < DIM; b++) qj[3 * a + b] -= half_kd[a] * X[b];
+              for (int b = 0; b < DIM; b++) qj[3 * a + b] -= qterm[DIM * a + b];
             double *const rj = row(j);
             for (int a = 0; a < DIM; a++) rj[a] -= SIGN * (kij * d[a]);
           }
@@ -316,17 +320,14 @@ namespace SPHElastic {
         for (int a = 0; a < DIM; a++) ri[a] = fi[a];
 
         if (TWO_PASS) {
-          for (int a = 0; a < DIM; a++)
-            for (int b = 0; b < DIM; b++) qi[a][b] = q[i][3 * a + b];
+          for (int k = 0; k < NQ; k++) qi[k] = q[i][k];
           for (int p = first; p < last; p++) {
-            const double *X = &pair_hg[(bigint) p * (1 + DIM) + 1];
-            const double *half_kd = &half_kd_run[(size_t) (p - first) * DIM];
-            for (int a = 0; a < DIM; a++)
-              for (int b = 0; b < DIM; b++) qi[a][b] -= half_kd[a] * X[b];
+            const double *qterm = &q_terms[(size_t) (p - first) * NQ];
+            for (int k = 0; k < NQ; k++) qi[k] -= qterm[k];
           }
         }
         for (int a = 0; a < DIM; a++)
-          for (int b = 0; b < DIM; b++) q[i][3 * a + b] = qi[a][b];
+          for (int b = 0; b < DIM; b++) q[i][3 * a + b] = qi[DIM * a + b];
       }
       return energy_sum;
     }
