@@ -79,11 +79,13 @@ struct CooMatrix {
   std::vector<size_t> slot;         // entry -> its distinct lower entry
   std::vector<PetscScalar> sums;    // per distinct entry, mirrors included
 
-  void clear()
+  // the raw entries' memory goes back too: the preconditioner's setup,
+  // which comes next, is the peak of a statics run
+  void release()
   {
-    rows.clear();
-    cols.clear();
-    values.clear();
+    std::vector<PetscInt>().swap(rows);
+    std::vector<PetscInt>().swap(cols);
+    std::vector<PetscScalar>().swap(values);
   }
   // an entry of the lower triangle, col <= row (the upper one is its mirror)
   void add_lower(PetscInt row, PetscInt col, double value)
@@ -183,7 +185,7 @@ struct CooMatrix {
     const size_t nlower = sums.size() - mirror_of.size();
     for (size_t m = 0; m < mirror_of.size(); m++) sums[nlower + m] = sums[mirror_of[m]];
     MatSetValuesCOO(M, sums.data(), INSERT_VALUES);
-    clear();
+    release();
     return !all_same;
   }
 };
