@@ -417,3 +417,25 @@ def test_example_fsi_plate(tmp_path):
     # compares the same kind of plate with its dry statics)
     w, w_kirchhoff = float(deflection[1]), float(deflection[2])
     assert 1.5 < w / w_kirchhoff < 3.0
+
+
+@pytest.mark.parametrize("depth,expected", [(None, 100), (0.005, 36), (0.015, 64), (0.035, 96)])
+def test_twins_within_depth(lmp, depth, expected):
+    """create_sph_twins ... depth D: twins only on the atoms within D of the
+    body's surface (reference configuration), on a 10 x 10 block: the outer
+    ring (36), two rings (64), all but the centre 2 x 2 (96), all (100)."""
+    lmp.commands_string(HEAD.format(processors="").replace(
+        "region blockr block 0 0.08 0 0.04", "region blockr block 0 0.10 -0.04 0.06") + PAIR
+        + RHEO.format(kernel="quintic 0", rho3="1000"))
+    lmp.command("create_sph_twins body 3" + (f" depth {depth}" if depth else ""))
+    typ = by_id(lmp, "type")
+    assert np.count_nonzero(typ == 3) == expected
+    src = by_id(lmp, "i_sph_twin")
+    x0 = by_id(lmp, "x0")
+    inner = src[typ == 3] - 1
+    # every twin's source is a body atom no deeper than the depth
+    assert np.all(typ[inner] == 2)
+    if depth:
+        to_edge = np.minimum.reduce([x0[inner, 0] - 0.0, 0.10 - x0[inner, 0],
+                                     x0[inner, 1] + 0.04, 0.06 - x0[inner, 1]])
+        assert to_edge.max() <= depth + 0.005 + 1e-12

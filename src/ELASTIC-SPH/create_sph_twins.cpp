@@ -26,7 +26,11 @@
 #include "fix_sph_fluid.h"
 #include "group.h"
 #include "modify.h"
+#include "sph_elastic_mpi.h"
+#include "sph_mirror_surface.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -50,7 +54,7 @@ void CreateSPHTwins::command(int narg, char **arg)
   const int type = utils::inumeric(FLERR, arg[1], false, lmp);
   if (type < 1 || type > atom->ntypes)
     error->all(FLERR, 1, "Create_sph_twins type must be 1 to {}, got {}", atom->ntypes, type);
-  double mass = 0.0;
+  double mass = 0.0, depth = 0.0;
   int iarg = 2;
   while (iarg < narg) {
     if (strcmp(arg[iarg], "mass") == 0) {
@@ -59,8 +63,15 @@ void CreateSPHTwins::command(int narg, char **arg)
       if (!(mass > 0.0))
         error->all(FLERR, iarg + 1, "Create_sph_twins mass must be > 0, got {}", mass);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "depth") == 0) {
+      if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "create_sph_twins depth", error);
+      depth = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(depth > 0.0))
+        error->all(FLERR, iarg + 1, "Create_sph_twins depth must be > 0, got {}", depth);
+      iarg += 2;
     } else {
-      error->all(FLERR, iarg, "Unknown create_sph_twins keyword {}: after the type comes 'mass M'",
+      error->all(FLERR, iarg,
+                 "Unknown create_sph_twins keyword {}: after the type come 'mass M' and 'depth D'",
                  arg[iarg]);
     }
   }
@@ -94,6 +105,7 @@ void CreateSPHTwins::command(int narg, char **arg)
   std::vector<int> sources;
   for (int i = 0; i < nlocal_previous; i++)
     if (atom->mask[i] & bodybit) sources.push_back(i);
+  if (depth > 0.0) sources = near_surface(sources, depth);
 
   // as create_atoms: the ghosts are overwritten by the new atoms
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
@@ -130,6 +142,65 @@ void CreateSPHTwins::command(int narg, char **arg)
     atom->map_set();
   }
   if (comm->me == 0)
-    utils::logmesg(lmp, "Created {} twins of type {} on the atoms of group {}\n", ncreated, type,
-                   arg[0]);
+    utils::logmesg(lmp, "Created {} twins of type {} on the atoms of group {}{}\n", ncreated, type,
+                   arg[0], depth > 0.0 ? fmt::format(" within {} of its surface", depth) : "");
+}
+
+/* ----------------------------------------------------------------------
+   the body atoms (local indices) within depth of the body's surface in
+   the reference configuration.  Surface atoms are those whose neighbours
+   within 1.5 spacings (the nearest and, on a square or cubic lattice, the
+   diagonal ones) are off-centre: their first moment exceeds half a
+   spacing (it vanishes inside a lattice).  Every rank gets every body
+   atom's reference position: fine for bodies of up to some 1e5 atoms
+------------------------------------------------------------------------- */
+
+std::vector<int> CreateSPHTwins::near_surface(const std::vector<int> &body, double depth) const
+{
+  std::vector<double> mine;
+  for (int i : body) mine.insert(mine.end(), {atom->x0[i][0], atom->x0[i][1], atom->x0[i][2]});
+  const std::vector<double> all = SPHElastic::gather_all(mine, world);
+  if (all.empty()) return body;
+
+  // the spacing: the nearest pair (searched in cells of growing size)
+  double extent = 0.0;
+  for (size_t k = 3; k < all.size(); k++) extent = std::max(extent, std::fabs(all[k] - all[k % 3]));
+  double spacing = depth;
+  for (double cell = depth;; cell *= 2.0) {
+    spacing = SPHElastic::nearest_distance(all, 3, 0, cell);
+    if (spacing < cell || cell > extent) break;
+  }
+  const double reach = 1.5 * spacing;
+  const SPHElastic::PointCells points(all, 3, 0, reach);
+  std::vector<double> surface;
+  for (int c = 0; c < points.size(); c++) {
+    const double *X = points.point(c);
+    double moment[3] = {0.0, 0.0, 0.0};
+    points.visit_near(X, [&](int k) {
+      const double *Y = points.point(k);
+      const double d[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
+      if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= reach * reach)
+        for (int a = 0; a < 3; a++) moment[a] += d[a];
+      return true;
+    });
+    const double norm2 = moment[0] * moment[0] + moment[1] * moment[1] + moment[2] * moment[2];
+    if (norm2 > 0.25 * spacing * spacing) surface.insert(surface.end(), {X[0], X[1], X[2]});
+  }
+
+  // this rank's body atoms within depth of a surface atom
+  const SPHElastic::PointCells near(surface, 3, 0, depth);
+  std::vector<int> chosen;
+  for (int i : body) {
+    const double *X = atom->x0[i];
+    bool close = false;
+    near.visit_near(X, [&](int k) {
+      const double *Y = near.point(k);
+      const double d2 = (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+          (X[2] - Y[2]) * (X[2] - Y[2]);
+      close = d2 <= depth * depth * (1.0 + 1.0e-12);
+      return !close;
+    });
+    if (close) chosen.push_back(i);
+  }
+  return chosen;
 }

@@ -22,11 +22,14 @@ CommandStyle(create_sph_twins,CreateSPHTwins);
 
 #include "command.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
-   create_sph_twins body-ID T [mass M]: one atom of type T (a RHEO solid
-   with the fluid's density and mass) on each atom of group body-ID, on
+   create_sph_twins body-ID T [mass M] [depth D]: one atom of type T (a
+   RHEO solid with the fluid's density and mass) on each atom of group
+   body-ID (no deeper than D below its surface), on
    the rank that owns it, for fix sph/fluid; each twin's per-atom integer
    sph_twin holds its source's atom ID
 ------------------------------------------------------------------------- */
@@ -35,6 +38,9 @@ class CreateSPHTwins : public Command {
  public:
   CreateSPHTwins(class LAMMPS *lmp) : Command(lmp) {}
   void command(int, char **) override;
+
+ private:
+  std::vector<int> near_surface(const std::vector<int> &body, double depth) const;
 };
 
 }    // namespace LAMMPS_NS
