@@ -37,9 +37,11 @@
 #include "compute_sph_elastic_atom.h"
 #include "compute_sph_probe.h"
 #include "create_sph_mirrors.h"
+#include "create_sph_twins.h"
 #include "fix_sph_bodyforce.h"
 #include "fix_sph_ccb_nve.h"
 #include "fix_sph_contact.h"
+#include "fix_sph_fluid.h"
 #include "fix_sph_minimize_check.h"
 #include "fix_sph_mirror.h"
 #include "fix_sph_partners.h"
@@ -175,6 +177,7 @@ extern "C" void lammpsplugin_init(void *ptr, void *handle, void *regfunc)
   register_style(add, ptr, handle, "fix", "sph/bodyforce", nullptr, &new_styled<FixSPHBodyForce>);
   register_style(add, ptr, handle, "fix", "sph/ccb/nve", nullptr, &new_styled<FixSPHCCBNVE>);
   register_style(add, ptr, handle, "fix", "sph/contact", nullptr, &new_styled<FixSPHContact>);
+  register_style(add, ptr, handle, "fix", "sph/fluid", nullptr, &new_styled<FixSPHFluid>);
   register_style(add, ptr, handle, "fix", "sph/mirror", nullptr, &new_styled<FixSPHMirror>);
   register_style(add, ptr, handle, "fix", "SPH_MINIMIZE_CHECK", nullptr,
                  &new_styled<FixSPHMinimizeCheck>);
@@ -187,6 +190,8 @@ extern "C" void lammpsplugin_init(void *ptr, void *handle, void *regfunc)
   register_style(add, ptr, handle, "compute", "sph/probe", nullptr, &new_styled<ComputeSPHProbe>);
 
   register_style(add, ptr, handle, "command", "create_sph_mirrors", &new_command<CreateSPHMirrors>,
+                 nullptr);
+  register_style(add, ptr, handle, "command", "create_sph_twins", &new_command<CreateSPHTwins>,
                  nullptr);
   register_style(add, ptr, handle, "command", "reset_sph_reference",
                  &new_command<ResetSPHReference>, nullptr);

@@ -1,0 +1,77 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   LAMMPS - Large-scale Atomic/Molecular Massively Parallel Simulator
+   https://www.lammps.org/, Sandia National Laboratories
+   LAMMPS development team: developers@lammps.org
+
+   Copyright (2003) Sandia Corporation.  Under the terms of Contract
+   DE-AC04-94AL85000 with Sandia Corporation, the U.S. Government retains
+   certain rights in this software.  This software is distributed under
+   the GNU General Public License.
+
+   See the README file in the top-level LAMMPS directory.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sph/fluid,FixSPHFluid);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_FLUID_H
+#define LMP_FIX_SPH_FLUID_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+/* ----------------------------------------------------------------------
+   two-way coupling of sph/icb bodies with a RHEO fluid by hydrodynamic
+   twins (create_sph_twins): each twin is a RHEO solid particle with the
+   fluid's mass that RHEO sees in place of its elastic source atom, which
+   neigh_modify exclude hides from the fluid.  Each step the twin takes its
+   source's position and velocity, is kept out of fix rheo's integration,
+   hands the force the fluid put on it to its source, and shows RHEO's
+   interface reconstruction its source's acceleration.  Twin and source
+   share a position, hence an owner: no communication of its own.
+------------------------------------------------------------------------- */
+
+class FixSPHFluid : public Fix {
+ public:
+  FixSPHFluid(class LAMMPS *, int, char **);
+  void post_constructor() override;
+  int setmask() override;
+  void init() override;
+  void setup_pre_exchange() override;
+  void setup_pre_force(int) override;
+  void setup(int) override;
+  void post_integrate() override;
+  void pre_force(int) override;
+  void post_force(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
+
+  // the per-atom source tag of the twins (0 for other atoms): the index of
+  // integer vector "sph_twin" in atom->ivector, made by an internal fix
+  // property/atom if create is true and it does not exist yet, else -1
+  static int twin_index(class LAMMPS *, bool create);
+  static constexpr const char *TWINS_ID = "SPH_TWINS";
+
+ private:
+  class FixRHEO *fix_rheo;
+  int itwin;                  // index of "sph_twin" in atom->ivector
+  double dtf;                 // half a step's velocity kick per force/mass
+  double fsum[3], fall[3];    // fluid force on this rank's twins, all ranks'
+  int fall_current;
+
+  int source_of(int i, const char *when);
+  void sync_twins(bool positions);
+  void hand_back_forces();
+  void show_accelerations();
+  void check_setup();
+  void check_fixes();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
