@@ -15,19 +15,23 @@ import pytest
 
 from conftest import by_id, make_lammps, run_lmp
 
-# 2d, SI, per unit depth: dx = 1 cm; water rho_f = 1000 (mass 0.1 kg/m per
-# particle), c_f = 10 m/s; an elastic block of rho_s = 2000 (E = 1 MPa,
-# c_s about 25 m/s): type 1 fluid, 2 elastic, 3 twins.  The body spans
-# 0 < x < 8 cm, the box -20 cm < x < 28 cm, so that two ranks split it at
-# x = 4 cm (twins and sources on both ranks; the blob pushes atoms across)
-HEAD = """
-units si
+# what every coupled 2d input here starts with: RHEO's atoms beside ours,
+# ghost velocities for pair rheo, and RHEO's habit of newton off
+SETTINGS = """units si
 dimension 2
 boundary f f p
 atom_style hybrid rheo sph/elastic
 atom_modify map array
 comm_modify vel yes
 newton off
+"""
+
+# 2d, SI, per unit depth: dx = 1 cm; water rho_f = 1000 (mass 0.1 kg/m per
+# particle), c_f = 10 m/s; an elastic block of rho_s = 2000 (E = 1 MPa,
+# c_s about 25 m/s): type 1 fluid, 2 elastic, 3 twins.  The body spans
+# 0 < x < 8 cm, the box -20 cm < x < 28 cm, so that two ranks split it at
+# x = 4 cm (twins and sources on both ranks; the blob pushes atoms across)
+HEAD = SETTINGS + """
 {processors}
 region box block -0.20 0.28 -0.05 0.12 -0.5 0.5 units box
 create_box 3 box
@@ -215,14 +219,7 @@ variable rho0 equal 1000.0
 variable cs equal 10*sqrt(${g}*${H})
 variable cut equal 3.0*${dx}
 variable t equal 3*${dx}
-units si
-dimension 2
-boundary f f p
-atom_style hybrid rheo sph/elastic
-atom_modify map array
-comm_modify vel yes
-newton off
-region box block $(-v_t-v_dx) $(v_W+v_t+v_dx) $(-v_t-v_dx) $(1.5*v_H) -0.5 0.5 units box
+""" + SETTINGS + """region box block $(-v_t-v_dx) $(v_W+v_t+v_dx) $(-v_t-v_dx) $(1.5*v_H) -0.5 0.5 units box
 create_box 4 box
 lattice sq ${dx} origin 0.5 0.5 0.0
 region fluid block 0 ${W} 0 ${H} INF INF units box
