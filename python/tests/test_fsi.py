@@ -374,6 +374,20 @@ def test_bad_input_is_an_error(tmp_path, case):
     assert message in refused(tmp_path, blob_script(**changes), "run 1")
 
 
+def test_timestep_above_either_stable_limit(tmp_path):
+    """The blob runs at the fluid's limit, 0.1 (cut/3)/c = 1e-4 s; half as
+    much again is refused.  A body a thousand times stiffer (c_s ~ 800 m/s,
+    limit ~ 7e-6 s) is refused at the fluid's step: a body alone only gets
+    the pair's warning, a coupled run would blow up in the fluid."""
+    error = refused(tmp_path, blob_script(), "timestep 1.5e-4\nrun 1")
+    assert "exceeds the fluid's stable limit 0.1 (cut/3)/c = 0.0001" in error
+    assert "'timestep 0.0001'" in error
+    stiff = PAIR.replace("2 2 sph/icb 1e6 0.3", "2 2 sph/icb 1e9 0.3")
+    assert stiff != PAIR
+    error = refused(tmp_path, blob_script(pair=stiff), "run 1")
+    assert "exceeds the elastic body's stable limit" in error
+
+
 def test_fix_rheo_missing_or_late(tmp_path):
     error = refused(tmp_path, HEAD.format(processors="") + PAIR, "create_sph_twins body 3")
     assert "define fix rheo first" in error

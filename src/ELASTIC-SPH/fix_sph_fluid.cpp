@@ -243,8 +243,42 @@ void FixSPHFluid::setup(int /*vflag*/)
 {
   check_setup();
   check_fixes();
+  check_timestep();
   hand_back_forces();
   show_accelerations();
+}
+
+/* ----------------------------------------------------------------------
+   a coupled step must be stable for both sides: the body's limit (the
+   pair's estimate, of which a run of the body alone only warns) and the
+   fluid's, FLUID_DT_FRACTION (cut/3)/c with c the largest sound speed of
+   the types RHEO sees.  0.1 is the step RHEO's examples take and the
+   largest found stable in studies/fsi_rheo (probe a); 0.2 diverged
+   within 0.2 s there
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::check_timestep()
+{
+  constexpr double FLUID_DT_FRACTION = 0.1;
+  constexpr double SLACK = 1.0 + 1.0e-9;    // a step typed as the limit itself passes
+  const double dt = update->dt;
+  auto *pair = PairSPHElastic::find(lmp);
+  const double solid_limit = pair ? pair->stable_dt_limit() : 0.0;
+  if (solid_limit > 0.0 && dt > SLACK * solid_limit)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid: timestep {:.6g} exceeds the elastic body's stable limit {:.6g} "
+               "(pair style {}); use 'timestep {:.3g}' or less",
+               dt, solid_limit, force->pair_style, solid_limit);
+  double csq_max = 0.0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!pair || !pair->solid_type(t)) csq_max = std::max(csq_max, fix_rheo->csq[t]);
+  if (csq_max <= 0.0) return;
+  const double fluid_limit = FLUID_DT_FRACTION * (fix_rheo->cut / 3.0) / std::sqrt(csq_max);
+  if (dt > SLACK * fluid_limit)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid: timestep {:.6g} exceeds the fluid's stable limit {:.2g} (cut/3)/c = "
+               "{:.6g} (fix rheo cut {:.6g}, speed of sound {:.6g}); use 'timestep {:.3g}' or less",
+               dt, FLUID_DT_FRACTION, fluid_limit, fix_rheo->cut, std::sqrt(csq_max), fluid_limit);
 }
 
 /* ----------------------------------------------------------------------

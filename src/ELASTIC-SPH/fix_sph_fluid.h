@@ -69,6 +69,7 @@ class FixSPHFluid : public Fix {
   void show_accelerations();
   void check_setup();
   void check_fixes();
+  void check_timestep();
 };
 
 }    // namespace LAMMPS_NS

@@ -60,6 +60,8 @@ class PairSPHElastic : public Pair {
   // does: most steps nobody reads them); every reader calls this first
   virtual void update_outputs() {}
   double stable_dt_unit() const { return dt_unit; }
+  // the largest stable timestep of the last estimate (0 before the first)
+  double stable_dt_limit() const { return stable_fraction() * dt_unit; }
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
   virtual bool has_green() const { return true; }    // is the green array filled
   class FixSPHPartners *get_partners() const { return partners; }
