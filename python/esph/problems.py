@@ -29,6 +29,7 @@ BEAM3D_TLSPH = EXAMPLES / "beam3d" / "in.beam3d_tlsph"
 RINGS = EXAMPLES / "rings" / "in.rings"
 LAME = EXAMPLES / "lame" / "in.lame"
 BEAM_CYLINDER = EXAMPLES / "beam_cylinder" / "in.beam_cylinder"
+FSI_PLATE = EXAMPLES / "fsi_plate" / "in.fsi_plate"
 
 # Lame's thick-walled cylinder of examples/lame: radii a < b (m), E (Pa), nu
 # and the pressure p (Pa)
@@ -75,6 +76,13 @@ class Problem:
     # CYLINDER_PROBLEMS; make_mesh maps the tensor mesh onto that domain and
     # arc_mapping represents its geometry exactly)
     clamp_radius: float = 0.0
+    # load_kind "plate" (PLATE_PROBLEMS): a plate of thickness H (y in [0, H]
+    # here; -H < y < 0 in the example) clamped on both ends x = 0, L under a
+    # water column of depth `water` and density rho_fluid standing on its top
+    # face y = H (a dead uniform pressure rho_fluid |g| water) plus its own
+    # weight rho |g| (per unit depth: t = 1)
+    water: float = 0.0
+    rho_fluid: float = 0.0
 
     # the example script that runs it (None: the FE reference only), the
     # example variable that sets its load (N, or m/s^2 for gy)
@@ -224,6 +232,55 @@ CYLINDER_PROBLEMS = {
 }
 
 
+# -- the hydrostatic plate of issue 35 (examples/fsi_plate) -----------------
+
+# O'Connor & Rogers (2021) / TrixiParticles' hydrostatic_water_column_2d
+# (L = 1, t = 0.05, E = 67.5 GPa, water 2 m) scaled to what a 2-core machine
+# runs in minutes (studies/fsi_rheo/README.md 5.2): a plate of L/t = 10,
+# water L/2 deep, E/(rho_f g H) = 2.0e4 (the real one 3.4e6), so that the
+# plate's step (0.48 dx/c_s) is only 2.1 times shorter than the fluid's
+# (0.1 dx/c_f) and the mid-span deflection stays small, about 3 % of t
+# (linear in the load to 0.1 %; the real plate: 0.14 %).  Particle spacings
+# t/n for n = 3, 4, 6, 8, 12 layers through the thickness.
+PLATE_GEOMETRY = {"L": 0.1, "t": 0.01, "water": 0.05, "E": 1.0e7, "nu": 0.3,
+                  "rho": 2700.0, "rho_fluid": 1000.0, "g": 9.81}
+PLATE_LAYERS = (3, 4, 6, 8, 12)
+
+PLATE_NOTE = (
+    "The plate (thickness H, y in [0, H]; the example's plate is -H < y < 0) clamped on "
+    "both ends (u = 0 on x = 0 and x = L: the mirror planes of fix sph/mirror) under a "
+    "dead uniform pressure rho_fluid |g| water on its top face y = H plus its own weight "
+    "rho g (a dead body force), plane strain, per unit depth; the load is g_y (m/s^2). "
+    "Reported: the mean u_y of the two mid-span particle columns, x = L/2 -+ dx/2, "
+    "y = (j + 1/2) dx (the example's mid-span deflection), and the top face's mid-point "
+    "(L/2, H). Mesh: the beam's family with geometric layers toward both clamps and both "
+    "faces (the four clamped corners).")
+
+PLATE_PROBLEMS = {
+    "fsi_plate": Problem("fsi_plate", dim=2, L=PLATE_GEOMETRY["L"], H=PLATE_GEOMETRY["t"],
+                         E=PLATE_GEOMETRY["E"], t=1.0, loads=(-PLATE_GEOMETRY["g"],),
+                         dxs=tuple(PLATE_GEOMETRY["t"] / n for n in PLATE_LAYERS),
+                         cases=((PLATE_GEOMETRY["nu"], "strain"),), load_kind="plate",
+                         rho=PLATE_GEOMETRY["rho"], rho_fluid=PLATE_GEOMETRY["rho_fluid"],
+                         water=PLATE_GEOMETRY["water"],
+                         points=(("top", 0.5 * PLATE_GEOMETRY["L"], PLATE_GEOMETRY["t"]),),
+                         grade=dict(zone_x0=0.01, zone_x1=0.01, ratio=0.25, hmin=1e-5,
+                                    n_mid=8),
+                         levels=(1, 2, 3), max_step=0.5, script=FSI_PLATE, load_var="g",
+                         note=PLATE_NOTE),
+}
+
+
+def plate_kirchhoff(g: float = PLATE_GEOMETRY["g"], geometry: dict = PLATE_GEOMETRY) -> float:
+    """Kirchhoff's clamped-clamped mid-span deflection q L^4/(384 D) (m,
+    negative = down) under q = g (rho_f water + rho t), D = E t^3/(12 (1 -
+    nu^2)): a sanity line only (no shear, no clamp-corner compliance)."""
+    G = geometry
+    q = g * (G["rho_fluid"] * G["water"] + G["rho"] * G["t"])
+    D = G["E"] * G["t"] ** 3 / (12.0 * (1.0 - G["nu"] ** 2))
+    return -q * G["L"] ** 4 / (384.0 * D)
+
+
 # -- the whole catalogue ------------------------------------------------------
 
 # problems an example script runs without an FE reference of their own
@@ -232,19 +289,20 @@ SCRIPT_ONLY = {
     "beam3d_tlsph": Problem("beam3d_tlsph", **CANTILEVER_3D, script=BEAM3D_TLSPH, load_var="Fy"),
 }
 
-CATALOGUE = {**END_LOAD_PROBLEMS, **GRAVITY_PROBLEMS, **CYLINDER_PROBLEMS, **SCRIPT_ONLY}
+CATALOGUE = {**END_LOAD_PROBLEMS, **GRAVITY_PROBLEMS, **CYLINDER_PROBLEMS, **PLATE_PROBLEMS,
+             **SCRIPT_ONLY}
 
 # the problems the examples' driver runs by name: those with a script
 PROBLEMS = {name: p for name, p in CATALOGUE.items() if p.script is not None}
 
 # the problems with an FE reference
-ALL_PROBLEMS = (*END_LOAD_PROBLEMS, *GRAVITY_PROBLEMS, *CYLINDER_PROBLEMS)
+ALL_PROBLEMS = (*END_LOAD_PROBLEMS, *GRAVITY_PROBLEMS, *CYLINDER_PROBLEMS, *PLATE_PROBLEMS)
 
 
 def problem_by_name(name: str) -> Problem:
     """The problem `name` with an FE reference: END_LOAD_PROBLEMS (end loads),
-    GRAVITY_PROBLEMS or CYLINDER_PROBLEMS."""
-    for group in (END_LOAD_PROBLEMS, GRAVITY_PROBLEMS, CYLINDER_PROBLEMS):
+    GRAVITY_PROBLEMS, CYLINDER_PROBLEMS or PLATE_PROBLEMS."""
+    for group in (END_LOAD_PROBLEMS, GRAVITY_PROBLEMS, CYLINDER_PROBLEMS, PLATE_PROBLEMS):
         if name in group:
             return group[name]
     raise KeyError(f"unknown problem {name!r}: {', '.join(ALL_PROBLEMS)}")

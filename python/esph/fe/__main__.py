@@ -8,9 +8,10 @@ import time
 from pathlib import Path
 
 from .. import fe
-from ..problems import ALL_PROBLEMS, CYLINDER_PROBLEMS, GRAVITY_PROBLEMS
+from ..problems import ALL_PROBLEMS, CYLINDER_PROBLEMS, GRAVITY_PROBLEMS, PLATE_PROBLEMS
 from ..problems import END_LOAD_PROBLEMS as PROBLEMS
-from .tables import CYLINDER_TABLE, GRAVITY_TABLE, TABLE, _load_table, table_path, write_table
+from .tables import (CYLINDER_TABLE, GRAVITY_TABLE, PLATE_TABLE, TABLE, _load_table, table_path,
+                     write_table)
 
 
 def main(argv=None) -> int:
@@ -21,7 +22,9 @@ def main(argv=None) -> int:
                          f"{TABLE.name}, the default) and " + ",".join(GRAVITY_PROBLEMS)
                          + f" (the beam under its own weight, table {GRAVITY_TABLE.name}) and "
                          + ",".join(CYLINDER_PROBLEMS) + " (the beam clamped to a rigid "
-                         f"cylinder under its own weight, table {CYLINDER_TABLE.name})")
+                         f"cylinder under its own weight, table {CYLINDER_TABLE.name}) and "
+                         + ",".join(PLATE_PROBLEMS) + " (the hydrostatic plate clamped at "
+                         f"both ends, table {PLATE_TABLE.name})")
     ap.add_argument("--table", default=None,
                     help="table path (default: the package's table of each problem)")
     args = ap.parse_args(argv)

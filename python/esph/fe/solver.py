@@ -169,6 +169,21 @@ class SVKSolver:
             f[i::self.dim] = force[i] * ones / ones.sum()
         return f
 
+    def face_traction(self, y_face: float, traction) -> np.ndarray:
+        """Nodal forces of a dead uniform traction (force per unit reference
+        area, the vector `traction`) on the face y = y_face: f_(a,i) = t_i
+        int N_a dA, dA = thickness ds in 2D."""
+        import skfem
+
+        facets = self.mesh.facets_satisfying(lambda x: np.isclose(x[1], y_face))
+        fb = skfem.FacetBasis(self.mesh, self.basis.elem, mapping=self.mapping,
+                              facets=facets, intorder=5)
+        area = skfem.asm(skfem.LinearForm(lambda v, w: v), fb) * self.thickness
+        f = np.zeros(self.N)
+        for i in range(self.dim):
+            f[i::self.dim] = traction[i] * area
+        return f
+
     def body_load(self, force_density) -> np.ndarray:
         """Nodal forces of a dead body force per unit reference volume (the
         vector force_density, e.g. rho g): f_(a,i) = b_i int N_a dV, dV =
@@ -315,12 +330,17 @@ class LinearSolver:
 
 def column_points(problem: Problem, dx: float, x: float | None = None) -> np.ndarray:
     """The particle code's tip column for spacing dx: x = tip_point (L - dx/2)
-    or x, y = (j + 1/2) dx, j < H/dx (and z = (k + 1/2) dx, k < W/dx in 3D)."""
-    x = tip_point(problem.L, dx) if x is None else x
+    or x, y = (j + 1/2) dx, j < H/dx (and z = (k + 1/2) dx, k < W/dx in 3D);
+    for the plate (load_kind "plate") without x, its two mid-span columns."""
     ny = int(round(problem.H / dx))
     if abs(ny * dx - problem.H) > 1e-9 * problem.H:
         raise ValueError(f"dx = {dx} does not divide H = {problem.H}")
     ys = (np.arange(ny) + 0.5) * dx
+    if problem.load_kind == "plate" and x is None:
+        # the plate's two mid-span columns, x = L/2 -+ dx/2
+        xs = np.repeat([0.5 * (problem.L - dx), 0.5 * (problem.L + dx)], ny)
+        return np.vstack([xs, np.tile(ys, 2)])
+    x = tip_point(problem.L, dx) if x is None else x
     if problem.dim == 2:
         return np.vstack([np.full(ny, x), ys])
     nz = int(round(problem.W / dx))
@@ -377,6 +397,9 @@ def solve_case(problem: Problem | str, loads, nu: float, plane: str, mesh,
         # clamped on the cylinder's arc; exact geometry
         dirichlet = [(arc_clamp_facets(problem, mesh), range(d))]
         mapping = arc_mapping(problem, mesh)
+    elif problem.load_kind == "plate":
+        # clamped on both ends
+        dirichlet = [(lambda x: np.isclose(x[0], 0.0) | np.isclose(x[0], problem.L), range(d))]
     else:
         dirichlet = [(lambda x: np.isclose(x[0], 0.0), range(d))]
     if half:
@@ -412,8 +435,13 @@ def solve_case(problem: Problem | str, loads, nu: float, plane: str, mesh,
     elif problem.load_kind == "end":
         # a half-z model carries half the load (the traction is F / (H W))
         fdir = solver.face_load(problem.L, unit) * (0.5 if half else 1.0)
+    elif problem.load_kind == "plate":
+        # per unit of g_y: the plate's weight and the water's pressure on y = H
+        fdir = (solver.body_load(problem.rho * unit)
+                + solver.face_traction(problem.H, problem.rho_fluid * problem.water * unit))
     else:
-        raise ValueError(f"load_kind must be 'end' or 'gravity', not {problem.load_kind!r}")
+        raise ValueError(f"load_kind must be 'end', 'gravity' or 'plate', not "
+                         f"{problem.load_kind!r}")
     project = mirror_projector(solver, problem.H) if problem.symmetric_y else None
     loads = [float(f) for f in loads]
     if max_step is None:

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..problems import (CYLINDER_PROBLEMS, END_LOAD_PROBLEMS, GRAVITY_PROBLEMS, Problem,
-                        problem_by_name)
+from ..problems import (CYLINDER_PROBLEMS, END_LOAD_PROBLEMS, GRAVITY_PROBLEMS, PLATE_PROBLEMS,
+                        Problem, problem_by_name)
 from .meshes import make_mesh
 from .solver import solve_case
 
@@ -22,6 +22,7 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 TABLE = DATA / "fe_reference.json"
 GRAVITY_TABLE = DATA / "fe_bodyforce.json"
 CYLINDER_TABLE = DATA / "fe_cylinder.json"
+PLATE_TABLE = DATA / "fe_plate.json"
 REGENERATE = "python -m esph.fe --write"
 
 
@@ -31,6 +32,8 @@ def table_path(name: str) -> Path:
         return GRAVITY_TABLE
     if name in CYLINDER_PROBLEMS:
         return CYLINDER_TABLE
+    if name in PLATE_PROBLEMS:
+        return PLATE_TABLE
     return TABLE
 
 
@@ -58,10 +61,13 @@ COMPONENTS = ("dh", "dv", "dz")
 
 def _zero_by_symmetry(problem: Problem) -> set:
     """Components whose tip-column mean vanishes by symmetry (listed with an
-    absolute error only): the truss's dv (mirror symmetry in y), dz in 3D."""
+    absolute error only): the truss's dv (mirror symmetry in y), dz in 3D,
+    the plate's dh at mid-span."""
     zero = {"dz"}
     if problem.symmetric_y:
         zero.add("dv")
+    if problem.load_kind == "plate":
+        zero.add("dh")      # the mid-span points: mirror symmetry in x - L/2
     return zero
 
 
@@ -105,6 +111,8 @@ def compute_problem(problem: Problem | str, levels=None, log=print, checkpoint=N
                 **({"load_kind": problem.load_kind, "rho": problem.rho,
                     "points": [list(p) for p in problem.points]}
                    if problem.load_kind != "end" or problem.points else {}),
+                **({"water": problem.water, "rho_fluid": problem.rho_fluid}
+                   if problem.load_kind == "plate" else {}),
                 "cases": [list(c) for c in problem.cases],
                 "max_error_estimate": max((e["error_estimate"] for e in entries), default=None),
                 "note": problem.note}
@@ -204,6 +212,8 @@ def write_table(names, path: Path | None = None, log=print) -> dict:
 
 
 def _table_meta(skfem, gravity: bool = False, kind: Path | None = None) -> dict:
+    if kind == PLATE_TABLE:
+        return _plate_table_meta(skfem)
     if kind == CYLINDER_TABLE:
         return _cylinder_table_meta(skfem)
     if gravity or kind == GRAVITY_TABLE:
@@ -284,6 +294,24 @@ def _cylinder_table_meta(skfem) -> dict:
     return meta
 
 
+def _plate_table_meta(skfem) -> dict:
+    meta = _gravity_table_meta(skfem)
+    meta.update({
+        "description": "Displacements (m) of the plate clamped at both ends under a water "
+                       "column and its own weight (examples/fsi_plate's hydrostatic plate) by "
+                       "the nonlinear total-Lagrangian SVK finite-element model esph.fe: the "
+                       "mean of the two mid-span columns and the top face's mid-point",
+        "loading": "x = 0 and x = L clamped (u = 0 on both faces: the mirror planes of fix "
+                   "sph/mirror), a dead uniform pressure rho_fluid |g| water on the top face "
+                   "y = H and a dead body force rho g per unit reference volume, g = (0, load) "
+                   "m/s^2; plane strain, per unit depth",
+        "tip_column": "mean over the two mid-span columns x = L/2 -+ dx/2, y = (j+1/2) dx",
+        "point": "'top' = (L/2, H), the top face's mid-point",
+        "command": _regenerate_command(PLATE_PROBLEMS),
+    })
+    return meta
+
+
 def _json_default(x):
     if isinstance(x, np.generic):
         return x.item()
@@ -359,6 +387,18 @@ def cylinder_tip(gy: float, dx: float | None = None, nu: float = 0.4, plane: str
     (L, H/2)).  Raises KeyError (naming the case and the regenerating
     command) when the table lacks it."""
     return _body_force_entry(CYLINDER_TABLE, "cylinder", gy, dx, nu, plane, point, problem)
+
+
+def plate_deflection(gy: float, dx: float | None = None, nu: float = 0.3, plane: str = "strain",
+                     point: str = "column", problem: str = "fsi_plate") -> dict:
+    """The FE reference displacement of the hydrostatic plate (PLATE_PROBLEMS)
+    under g = (0, -gy), from python/esph/data/fe_plate.json; point =
+    "column": the mean of the two mid-span columns for dx; "top": the top
+    face's mid-point.  Returns {"dh", "dv", "error_estimate", "err_dh",
+    "err_dv"} as gravity_tip (dh vanishes by symmetry for the columns' mean).
+    Raises KeyError (naming the case and the regenerating command) when the
+    table lacks it."""
+    return _body_force_entry(PLATE_TABLE, "plate", gy, dx, nu, plane, point, problem)
 
 
 def _body_force_entry(path: Path, kind: str, gy, dx, nu, plane, point, problem) -> dict:
