@@ -165,6 +165,14 @@ void FixSPHFluid::init()
                "hybrid/overlay, beside pair rheo): sph/ccb keeps its density in rho, which RHEO "
                "overwrites");
 
+  // pair rheo gives the fluid its forces, the twins' included: without it
+  // the run goes on with a fluid that moves freely through the body
+  if (!force->pair_match("rheo", 1))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid needs pair style rheo beside sph/icb: 'pair_style hybrid/overlay "
+               "rheo CUT ... sph/icb ...' with 'pair_coeff * * rheo' (without it the fluid feels "
+               "neither itself nor the twins)");
+
   itwin = twin_index(lmp, false);
   if (itwin < 0)
     error->all(FLERR, Error::NOLASTLINE,
@@ -406,8 +414,10 @@ void FixSPHFluid::check_setup()
     bad[k] = 1;
     example[k] = std::max(example[k], tag);
   };
+  bigint ntwins_mine = 0, ntwins = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!src[i]) continue;
+    ntwins_mine++;
     if (!(mask[i] & groupbit)) flag(4, atom->tag[i]);
     const int j = atom->map(src[i]);
     if (j < 0 || j >= nlocal) {
@@ -422,6 +432,12 @@ void FixSPHFluid::check_setup()
   }
   MPI_Allreduce(bad, bad_all, 5, MPI_INT, MPI_MAX, world);
   MPI_Allreduce(example, example_all, 5, MPI_LMP_TAGINT, MPI_MAX, world);
+  MPI_Allreduce(&ntwins_mine, &ntwins, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (ntwins == 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid {}: there are no twins, and the fluid would not see the bodies; "
+               "create them with create_sph_twins (after fix rheo, before the run)",
+               id);
   if (bad_all[0])
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: twin atom {} is not on its source atom's rank; twins are made "
