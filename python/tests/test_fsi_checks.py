@@ -1,7 +1,8 @@
-"""Bad input of the fluid coupling (issue 35, item 3): a coupling without
-the fixes or the pair style the fluid needs stops at the start of the run
-with an error that names the command to add.  The set-up is test_fsi's
-blob."""
+"""Bad input of the fluid coupling (issue 35, item 3): a fluid and a body
+in different units or at different spacings, and a coupling without the
+fixes or the pair style the fluid needs.  Each stops at the start of the
+run with an error that names both values and the command to change; the
+good inputs beside them run.  The set-up is test_fsi's blob."""
 from __future__ import annotations
 
 import pytest
@@ -29,6 +30,58 @@ def error_of(script: str, tmp_path, nprocs: int = 1) -> str:
 def runs(script: str, tmp_path, nprocs: int = 1) -> None:
     rc, out = run_lmp(script, tmp_path, nprocs=nprocs, timeout=120)
     assert rc == 0, out[-3000:]
+
+
+# ---------------------------------------------------------------------------
+# units and spacings: the blob's fluid of rho0 = 1000 kg/m^3 and volume
+# 1e-4 m^2 per particle (dx = 1 cm, per unit depth) against the body's
+# density 2000 and volume 1e-4
+
+# the fluid on a 2 cm lattice
+COARSE_FLUID = ("create_atoms 1 region blob",
+                "lattice sq 0.02 origin 0.5 0.5 0.0\ncreate_atoms 1 region blob")
+
+UNITS = {
+    # the body's density typed in g/cm^3 (2), the fluid's in kg/m^3
+    "solid_density_in_g_per_cm3": (
+        dict(), [("set group body mass 0.2", "set group body mass 0.0002")],
+        ["elastic atoms of type 2 have a density of 2 ", "rest density 1000 (fix rheo density)",
+         "a ratio of 0.002, outside the 0.01 to 100", "units of the 'units' command (si)"]),
+    # a 2d body of the package's solid examples: volumes of a 1 mm thick
+    # slice, dx^2 t; RHEO's are per unit depth (the twins given the fluid's
+    # mass, as the mass check asks)
+    "2d_volumes_with_a_thickness": (
+        dict(twin_args="mass 0.1"),
+        [("set group body mass 0.2", "set group body volume 1e-7\nset group body mass 2e-4")],
+        ["fluid particles of type 1 have the volume 0.0001 (mean mass 0.1 over fix rheo "
+         "density 1000), 1000 times the mean volume of the atoms of body (molecule) 1, 1e-07",
+         "a thickness other than 1"]),
+    # the fluid on a 2 cm lattice with masses for it, the twins given the
+    # fluid's mass
+    "fluid_spacing_twice_the_body's": (
+        dict(twin_args="mass 0.4"),
+        [COARSE_FLUID, ("set group fluid mass 0.1", "set group fluid mass 0.4")],
+        ["have the volume 0.0004", "4 times the mean volume", "spacings 2 times apart"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(UNITS))
+def test_units_and_spacing_mismatch_is_an_error(tmp_path, case):
+    kwargs, changes, messages = UNITS[case]
+    error = refused(tmp_path, edit(blob_script(**kwargs), *changes), "run 1")
+    for message in messages:
+        assert message in error, error
+
+
+def test_corrected_volumes_are_consistent(tmp_path):
+    """set_sph_volumes' surface corrections change single atoms' volumes by
+    up to a quarter (twins then need an explicit mass), not a lattice
+    body's mean: the body at density 2000 with corrected volumes runs."""
+    script = edit(blob_script(twin_args="mass 0.1"),
+                  ("set group body mol 1",
+                   "set group body mol 1\nset_sph_volumes body lattice 0.01 thickness 1.0 "
+                   "density 2000"))
+    runs(script + "run 5\n", tmp_path)
 
 
 # ---------------------------------------------------------------------------

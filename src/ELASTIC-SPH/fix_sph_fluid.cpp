@@ -25,6 +25,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_rheo.h"
 #include "force.h"
@@ -32,12 +33,15 @@
 #include "modify.h"
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
+#include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -497,6 +501,9 @@ void FixSPHFluid::check_setup()
                    id, e, t, e, t);
   }
 
+  // one particle volume and density scale for fluid and bodies
+  check_volumes(fluid_all);
+
   // equal masses of every atom RHEO sees: pair rheo gives neighbour j the
   // mass of atom i when masses are per atom (pair_rheo.cpp, 4Feb2025)
   double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, lo_all[2], hi_all[2];
@@ -612,4 +619,123 @@ void FixSPHFluid::check_fixes()
         return is_source[i] != 0;
       },
       "hands the fluid's force to");
+}
+
+/* ----------------------------------------------------------------------
+   fluid and bodies in one set of units and at one spacing.  A twin stands
+   for its source atom with the fluid particles' mass and rest density
+   (checked after this), so with their volume m_f/rho0_f; that must also
+   be its source's volume (vfrac), or RHEO sees a wall of more or less
+   matter than the body's atoms fill.  In studies/fsi_rheo (8.2) walls
+   whose volume m/rho was 10 % off moved a hydrostatic tank's floor force
+   by 6-11 % and raised its kinetic energy 60 to 300 times;
+   VOLUME_TOLERANCE is half that.  Consistent inputs agree to round-off:
+   each body's mean volume is compared, and the volumes of a body made of
+   lattice cells average to dx^d exactly, with set_sph_volumes' surface
+   corrections or without (they sum to 0 over the outer three layers).
+   The solid's density m/vfrac against the fluid's rest density: any
+   solid in any liquid lies within DENSITY_RATIO_MAX either way (a polymer
+   foam in water 0.03, tungsten in water 19, in a light oil 25); mixed
+   units give factors of 1000 (kg/m^3 against g/cm^3) and more.  Volume
+   ratios beyond UNITS_RATIO are called mixed units in the message, not a
+   spacing (a fluid spacing 5 times the body's in 2d, 3 times in 3d)
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::check_volumes(const std::vector<int> &fluid_type)
+{
+  constexpr double VOLUME_TOLERANCE = 0.05;
+  constexpr double DENSITY_RATIO_MAX = 100.0;
+  constexpr double UNITS_RATIO = 30.0;
+  auto *pair = PairSPHElastic::find(lmp);
+  const int ntypes = atom->ntypes, nlocal = atom->nlocal, dim = domain->dimension;
+  const int *type = atom->type, *status = atom->rheo_status;
+  const int *src = atom->ivector[itwin];
+  const tagint *molecule = atom->molecule;
+  const double *rmass = atom->rmass, *vfrac = atom->vfrac, *rho0 = fix_rheo->rho0;
+
+  // per type: the elastic atoms' mass and volume, the fluid atoms' mass
+  // and number
+  const int n1 = ntypes + 1;
+  std::vector<double> sums(3 * n1, 0.0), sums_all(3 * n1);
+  double *mass_of = sums_all.data(), *volume_of = mass_of + n1, *count_of = volume_of + n1;
+  // per body (molecule ID): atoms, their volume, twins
+  std::map<tagint, std::array<double, 3>> bodies;
+  for (int i = 0; i < nlocal; i++) {
+    const int t = type[i];
+    if (pair->solid_type(t)) {
+      sums[t] += rmass[i];
+      sums[n1 + t] += vfrac[i];
+      auto &body = bodies[molecule[i]];
+      body[0] += 1.0;
+      body[1] += vfrac[i];
+    } else if (src[i]) {
+      const int j = atom->map(src[i]);
+      if (j >= 0) bodies[molecule[j]][2] += 1.0;
+    } else if (!(status[i] & RHEO_NS::PHASECHECK)) {
+      sums[t] += rmass[i];
+      sums[2 * n1 + t] += 1.0;
+    }
+  }
+  MPI_Allreduce(sums.data(), sums_all.data(), 3 * n1, MPI_DOUBLE, MPI_SUM, world);
+  std::vector<double> mine;
+  for (const auto &body : bodies)
+    mine.insert(mine.end(), {(double) body.first, body.second[0], body.second[1], body.second[2]});
+  const std::vector<double> all = SPHElastic::gather_all(mine, world);
+  bodies.clear();
+  for (size_t k = 0; k + 3 < all.size(); k += 4) {
+    auto &body = bodies[(tagint) all[k]];
+    for (int a = 0; a < 3; a++) body[a] += all[k + 1 + a];
+  }
+
+  for (int e = 1; e <= ntypes; e++) {
+    if (!pair->solid_type(e) || !(volume_of[e] > 0.0)) continue;
+    const double rho_solid = mass_of[e] / volume_of[e];
+    for (int u = 1; u <= ntypes; u++) {
+      if (!fluid_type[u] || !(count_of[u] > 0.0)) continue;
+      const double ratio = rho_solid / rho0[u];
+      if (!(ratio >= 1.0 / DENSITY_RATIO_MAX && ratio <= DENSITY_RATIO_MAX))
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Fix sph/fluid {}: the elastic atoms of type {} have a density of {:.6g} "
+                   "(their masses over their volumes, from 'set ... mass' and 'set ... volume' "
+                   "or set_sph_volumes) and the fluid of type {} the rest density {:.6g} (fix "
+                   "rheo density): a ratio of {:.3g}, outside the {:g} to {:g} of any solid in "
+                   "a liquid.  Are both in the units of the 'units' command ({})?  A density in "
+                   "g/cm^3 beside one in kg/m^3 is a factor of 1000",
+                   id, e, rho_solid, u, rho0[u], ratio, 1.0 / DENSITY_RATIO_MAX, DENSITY_RATIO_MAX,
+                   update->unit_style);
+    }
+  }
+
+  for (int u = 1; u <= ntypes; u++) {
+    if (!fluid_type[u] || !(count_of[u] > 0.0)) continue;
+    const double mass = mass_of[u] / count_of[u];
+    const double volume_fluid = mass / rho0[u];
+    for (const auto &body : bodies) {
+      const auto &b = body.second;
+      if (!(b[2] > 0.0) || !(b[0] > 0.0)) continue;
+      const double volume_body = b[1] / b[0];
+      const double ratio = volume_fluid / volume_body;
+      if (std::fabs(std::log(ratio)) <= std::log1p(VOLUME_TOLERANCE)) continue;
+      std::string cause;
+      if (ratio > UNITS_RATIO || ratio < 1.0 / UNITS_RATIO)
+        cause = fmt::format("a factor this large comes from mixed units (1e3 for kg beside g, "
+                            "1e6 for m^2 beside mm^2){}",
+                            dim == 2 ? ", or from 2d volumes or masses for a thickness other than "
+                                       "1 (RHEO's are per unit depth)"
+                                     : "");
+      else
+        cause = fmt::format("spacings {:.3g} times apart (fluid against body), or masses set "
+                            "for another spacing",
+                            std::pow(ratio, 1.0 / dim));
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix sph/fluid {}: the fluid particles of type {} have the volume {:.6g} (mean "
+                 "mass {:.6g} over fix rheo density {:.6g}), {:.4g} times the mean volume of the "
+                 "atoms of body (molecule) {}, {:.6g} (their vfrac, from 'set ... volume' or "
+                 "set_sph_volumes): {}.  The twins stand for the body's atoms with the fluid "
+                 "particles' volume: give fluid and body one spacing dx, masses rho dx^{} and "
+                 "volumes dx^{}, all in the units of the 'units' command ({})",
+                 id, u, volume_fluid, mass, rho0[u], ratio, body.first, volume_body, cause, dim,
+                 dim, update->unit_style);
+    }
+  }
 }
