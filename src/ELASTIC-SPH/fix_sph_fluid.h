@@ -43,6 +43,7 @@ class FixSPHFluid : public Fix {
   void post_constructor() override;
   int setmask() override;
   void init() override;
+  void init_list(int, class NeighList *) override;
   void setup_pre_exchange() override;
   void setup_pre_force(int) override;
   void setup(int) override;
@@ -73,6 +74,7 @@ class FixSPHFluid : public Fix {
   void show_accelerations();
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
+  void check_thin_bodies(const std::vector<int> &twin_type);
   void check_fixes();
   void check_timestep();
 };
