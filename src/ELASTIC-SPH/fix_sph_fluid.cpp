@@ -25,19 +25,25 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix_rheo.h"
 #include "force.h"
 #include "group.h"
 #include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
 #include "neighbor.h"
 #include "pair_sph_elastic.h"
+#include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -61,7 +67,7 @@ bool excluded(const Neighbor *neighbor, int a, int b)
 
 FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), fix_rheo(nullptr), itwin(-1),
-    dtf(0.0), fsum{0.0, 0.0, 0.0}, fall{0.0, 0.0, 0.0}, fall_current(0)
+    dtf(0.0), fsum{0.0, 0.0, 0.0}, fall{0.0, 0.0, 0.0}, fall_current(0), list(nullptr), spacing(0.0)
 {
   if (narg > 3)
     error->all(FLERR, 3, "Unknown fix sph/fluid keyword {}: fix sph/fluid takes no arguments",
@@ -165,11 +171,31 @@ void FixSPHFluid::init()
                "hybrid/overlay, beside pair rheo): sph/ccb keeps its density in rho, which RHEO "
                "overwrites");
 
+  // pair rheo gives the fluid its forces, the twins' included: without it
+  // the run goes on with a fluid that moves freely through the body
+  if (!force->pair_match("rheo", 1))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid needs pair style rheo beside sph/icb: 'pair_style hybrid/overlay "
+               "rheo CUT ... sph/icb ...' with 'pair_coeff * * rheo' (without it the fluid feels "
+               "neither itself nor the twins)");
+
   itwin = twin_index(lmp, false);
   if (itwin < 0)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: there are no twins; create them with create_sph_twins", id);
   dtf = 0.5 * update->dt * force->ftm2v;
+
+  // fluid pairs within fix rheo's cut and the twins beside them, for the
+  // thin-body check at setup (an occasional list, built there only)
+  neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL)
+      ->set_cutoff(fix_rheo->cut + neighbor->skin);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHFluid::init_list(int /*id*/, NeighList *ptr)
+{
+  list = ptr;
 }
 
 /* ----------------------------------------------------------------------
@@ -406,8 +432,10 @@ void FixSPHFluid::check_setup()
     bad[k] = 1;
     example[k] = std::max(example[k], tag);
   };
+  bigint ntwins_mine = 0, ntwins = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!src[i]) continue;
+    ntwins_mine++;
     if (!(mask[i] & groupbit)) flag(4, atom->tag[i]);
     const int j = atom->map(src[i]);
     if (j < 0 || j >= nlocal) {
@@ -422,6 +450,12 @@ void FixSPHFluid::check_setup()
   }
   MPI_Allreduce(bad, bad_all, 5, MPI_INT, MPI_MAX, world);
   MPI_Allreduce(example, example_all, 5, MPI_LMP_TAGINT, MPI_MAX, world);
+  MPI_Allreduce(&ntwins_mine, &ntwins, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (ntwins == 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid {}: there are no twins, and the fluid would not see the bodies; "
+               "create them with create_sph_twins (after fix rheo, before the run)",
+               id);
   if (bad_all[0])
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: twin atom {} is not on its source atom's rank; twins are made "
@@ -481,6 +515,9 @@ void FixSPHFluid::check_setup()
                    id, e, t, e, t);
   }
 
+  // one particle volume and density scale for fluid and bodies
+  check_volumes(fluid_all);
+
   // equal masses of every atom RHEO sees: pair rheo gives neighbour j the
   // mass of atom i when masses are per atom (pair_rheo.cpp, 4Feb2025)
   double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, lo_all[2], hi_all[2];
@@ -521,6 +558,16 @@ void FixSPHFluid::check_setup()
                    id, t, rho0[t], std::sqrt(csq[t]), u, rho0[u], std::sqrt(csq[u]));
     }
   }
+
+  // the twins' spacing: that of their volume m/rho0 (one mass and one rest
+  // density after the checks above, and the fluid's and the bodies' too)
+  double vsum = 0.0, vsum_all = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    if (src[i]) vsum += rmass[i] / rho0[type[i]];
+  MPI_Allreduce(&vsum, &vsum_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  spacing = std::pow(vsum_all / (double) ntwins, 1.0 / domain->dimension);
+
+  check_thin_bodies(twin_all);
 }
 
 /* ----------------------------------------------------------------------
@@ -596,4 +643,294 @@ void FixSPHFluid::check_fixes()
         return is_source[i] != 0;
       },
       "hands the fluid's force to");
+}
+
+/* ----------------------------------------------------------------------
+   fluid and bodies in one set of units and at one spacing.  A twin stands
+   for its source atom with the fluid particles' mass and rest density
+   (checked after this), so with their volume m_f/rho0_f; that must also
+   be its source's volume (vfrac), or RHEO sees a wall of more or less
+   matter than the body's atoms fill.  In studies/fsi_rheo (8.2) walls
+   whose volume m/rho was 10 % off moved a hydrostatic tank's floor force
+   by 6-11 % and raised its kinetic energy 60 to 300 times;
+   VOLUME_TOLERANCE is half that.  Consistent inputs agree to round-off:
+   each body's mean volume is compared, and the volumes of a body made of
+   lattice cells average to dx^d exactly, with set_sph_volumes' surface
+   corrections or without (they sum to 0 over the outer three layers).
+   The solid's density m/vfrac against the fluid's rest density: any
+   solid in any liquid lies within DENSITY_RATIO_MAX either way (a polymer
+   foam in water 0.03, tungsten in water 19, in a light oil 25); mixed
+   units give factors of 1000 (kg/m^3 against g/cm^3) and more.  Volume
+   ratios beyond UNITS_RATIO are called mixed units in the message, not a
+   spacing (a fluid spacing 5 times the body's in 2d, 3 times in 3d)
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::check_volumes(const std::vector<int> &fluid_type)
+{
+  constexpr double VOLUME_TOLERANCE = 0.05;
+  constexpr double DENSITY_RATIO_MAX = 100.0;
+  constexpr double UNITS_RATIO = 30.0;
+  auto *pair = PairSPHElastic::find(lmp);
+  const int ntypes = atom->ntypes, nlocal = atom->nlocal, dim = domain->dimension;
+  const int *type = atom->type, *status = atom->rheo_status;
+  const int *src = atom->ivector[itwin];
+  const tagint *molecule = atom->molecule;
+  const double *rmass = atom->rmass, *vfrac = atom->vfrac, *rho0 = fix_rheo->rho0;
+
+  // per type: the elastic atoms' mass and volume, the fluid atoms' mass
+  // and number
+  const int n1 = ntypes + 1;
+  std::vector<double> sums(3 * n1, 0.0), sums_all(3 * n1);
+  double *mass_of = sums_all.data(), *volume_of = mass_of + n1, *count_of = volume_of + n1;
+  // per body (molecule ID): atoms, their volume, twins
+  std::map<tagint, std::array<double, 3>> bodies;
+  for (int i = 0; i < nlocal; i++) {
+    const int t = type[i];
+    if (pair->solid_type(t)) {
+      sums[t] += rmass[i];
+      sums[n1 + t] += vfrac[i];
+      auto &body = bodies[molecule[i]];
+      body[0] += 1.0;
+      body[1] += vfrac[i];
+    } else if (src[i]) {
+      const int j = atom->map(src[i]);
+      if (j >= 0) bodies[molecule[j]][2] += 1.0;
+    } else if (!(status[i] & RHEO_NS::PHASECHECK)) {
+      sums[t] += rmass[i];
+      sums[2 * n1 + t] += 1.0;
+    }
+  }
+  MPI_Allreduce(sums.data(), sums_all.data(), 3 * n1, MPI_DOUBLE, MPI_SUM, world);
+  std::vector<double> mine;
+  for (const auto &body : bodies)
+    mine.insert(mine.end(), {(double) body.first, body.second[0], body.second[1], body.second[2]});
+  const std::vector<double> all = SPHElastic::gather_all(mine, world);
+  bodies.clear();
+  for (size_t k = 0; k + 3 < all.size(); k += 4) {
+    auto &body = bodies[(tagint) all[k]];
+    for (int a = 0; a < 3; a++) body[a] += all[k + 1 + a];
+  }
+
+  for (int e = 1; e <= ntypes; e++) {
+    if (!pair->solid_type(e) || !(volume_of[e] > 0.0)) continue;
+    const double rho_solid = mass_of[e] / volume_of[e];
+    for (int u = 1; u <= ntypes; u++) {
+      if (!fluid_type[u] || !(count_of[u] > 0.0)) continue;
+      const double ratio = rho_solid / rho0[u];
+      if (!(ratio >= 1.0 / DENSITY_RATIO_MAX && ratio <= DENSITY_RATIO_MAX))
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Fix sph/fluid {}: the elastic atoms of type {} have a density of {:.6g} "
+                   "(their masses over their volumes, from 'set ... mass' and 'set ... volume' "
+                   "or set_sph_volumes) and the fluid of type {} the rest density {:.6g} (fix "
+                   "rheo density): a ratio of {:.3g}, outside the {:g} to {:g} of any solid in "
+                   "a liquid.  Are both in the units of the 'units' command ({})?  A density in "
+                   "g/cm^3 beside one in kg/m^3 is a factor of 1000",
+                   id, e, rho_solid, u, rho0[u], ratio, 1.0 / DENSITY_RATIO_MAX, DENSITY_RATIO_MAX,
+                   update->unit_style);
+    }
+  }
+
+  for (int u = 1; u <= ntypes; u++) {
+    if (!fluid_type[u] || !(count_of[u] > 0.0)) continue;
+    const double mass = mass_of[u] / count_of[u];
+    const double volume_fluid = mass / rho0[u];
+    for (const auto &body : bodies) {
+      const auto &b = body.second;
+      if (!(b[2] > 0.0) || !(b[0] > 0.0)) continue;
+      const double volume_body = b[1] / b[0];
+      const double ratio = volume_fluid / volume_body;
+      if (std::fabs(std::log(ratio)) <= std::log1p(VOLUME_TOLERANCE)) continue;
+      std::string cause;
+      if (ratio > UNITS_RATIO || ratio < 1.0 / UNITS_RATIO)
+        cause = fmt::format("a factor this large comes from mixed units (1e3 for kg beside g, "
+                            "1e6 for m^2 beside mm^2){}",
+                            dim == 2 ? ", or from 2d volumes or masses for a thickness other than "
+                                       "1 (RHEO's are per unit depth)"
+                                     : "");
+      else
+        cause = fmt::format("spacings {:.3g} times apart (fluid against body), or masses set "
+                            "for another spacing",
+                            std::pow(ratio, 1.0 / dim));
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix sph/fluid {}: the fluid particles of type {} have the volume {:.6g} (mean "
+                 "mass {:.6g} over fix rheo density {:.6g}), {:.4g} times the mean volume of the "
+                 "atoms of body (molecule) {}, {:.6g} (their vfrac, from 'set ... volume' or "
+                 "set_sph_volumes): {}.  The twins stand for the body's atoms with the fluid "
+                 "particles' volume: give fluid and body one spacing dx, masses rho dx^{} and "
+                 "volumes dx^{}, all in the units of the 'units' command ({})",
+                 id, u, volume_fluid, mass, rho0[u], ratio, body.first, volume_body, cause, dim,
+                 dim, update->unit_style);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   a body thinner than fix rheo's cut with fluid on both sides: fluid
+   atoms on its two sides are neighbours of pair rheo, the pressure of one
+   side acts on the other side's fluid through the body, and the body
+   feels little of it.  Found as pairs of fluid atoms within the cut whose
+   segment crosses a body: it passes within half a spacing of a twin, at a
+   point P at least half a spacing from both ends, and the body goes on
+   beyond the segment on opposite sides: among the twins within cut/2 of
+   P, two whose offsets from P normal to the segment are at least MARGIN
+   long and point apart (cosine below OPPOSITE; in 2d, opposite signs).
+   A segment past a convex corner has the body on one side only; one that
+   cuts into a corner has only twins closer than MARGIN on the corner's
+   side: a chord of length cut whose ends lie a spacing outside two faces
+   at a right angle passes the corner atom at cut/2 - sqrt(2) dx at most,
+   below MARGIN = max(dx/2, cut/2 - dx).  Fluid on one side of a plate
+   makes no pairs across it.  Pairs at the cut to within CUT_SLACK (its
+   relative round-off: lattice sites a whole number of spacings apart) are
+   left out, their kernel weight being 0.  Each pair is tested on the rank
+   that owns its end nearer to P, whose list holds every twin within cut/2
+   of P (at setup, with the ghosts of a run).
+   The same pass measures the fluid's spacing: each fluid atom's nearest
+   fluid neighbour, on average, against the spacing of the volume m/rho0.
+   On a lattice they are equal; a fluid that has flowed has its particles
+   closer (0.76 spacings after the blob of python/tests/test_fsi.py hit
+   its body), never SPACING_RATIO_MAX farther apart, which fluid masses
+   set for a finer spacing than the fluid's lattice give (2 for a lattice
+   twice as coarse).  A fluid finer than its volume says is not tested
+   here: its volume then differs from the body's (check_volumes), the
+   body's volumes being its spacing's (checked by the pair style)
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::check_thin_bodies(const std::vector<int> &twin_type)
+{
+  constexpr double OPPOSITE = -0.8;
+  constexpr double SPACING_RATIO_MAX = 1.5;
+  constexpr double CUT_SLACK = 1.0e-6;
+  auto *pair = PairSPHElastic::find(lmp);
+  neighbor->build_one(list);
+  const int *type = atom->type, *status = atom->rheo_status;
+  const tagint *tag = atom->tag;
+  double **x = atom->x;
+  const double cut = fix_rheo->cut, cutsq = cut * cut, dx = spacing, half = 0.5 * dx;
+  const double pairsq = cutsq * (1.0 - 2.0 * CUT_SLACK);
+  const double reach = 0.5 * cut, margin = std::max(0.5 * dx, 0.5 * cut - dx);
+  auto fluid = [&](int i) {
+    return !(status[i] & RHEO_NS::PHASECHECK) && !pair->solid_type(type[i]) && !twin_type[type[i]];
+  };
+  auto dot = [](const double *a, const double *b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+
+  std::vector<int> twins;
+  std::vector<std::array<double, 3>> offsets;
+  double nearest[2] = {0.0, 0.0}, nearest_all[2];    // sum of distances, atoms
+  bigint nsee = 0, nsee_all = 0;                     // fluid atoms that see through a body
+  // the shortest such pair: atom IDs, length, P, thickness along it
+  double found[7] = {0.0, 0.0, HUGE_VAL, 0.0, 0.0, 0.0, 0.0};
+  std::vector<std::pair<double, int>> by_distance;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!fluid(i)) continue;
+    twins.clear();
+    by_distance.clear();
+    double nearest2 = HUGE_VAL;
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (twin_type[type[j]]) {
+        twins.push_back(j);
+      } else if (fluid(j)) {
+        const double d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+        const double d2 = dot(d, d);
+        if (d2 < cutsq) nearest2 = std::min(nearest2, d2);
+        if (d2 < pairsq) by_distance.emplace_back(d2, j);
+      }
+    }
+    if (nearest2 < HUGE_VAL) {
+      nearest[0] += std::sqrt(nearest2);
+      nearest[1] += 1.0;
+    }
+    // the nearest fluid neighbours first: the first pair found is i's shortest
+    if (!twins.empty()) std::sort(by_distance.begin(), by_distance.end());
+    bool sees = false;
+    for (size_t jj = 0; jj < by_distance.size() && !sees && !twins.empty(); jj++) {
+      const int j = by_distance[jj].second;
+      const double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
+      const double length = std::sqrt(dot(e, e));
+      const double u[3] = {e[0] / length, e[1] / length, e[2] / length};
+      for (int k : twins) {
+        const double d[3] = {x[k][0] - x[i][0], x[k][1] - x[i][1], x[k][2] - x[i][2]};
+        const double s = dot(d, u);
+        // P half a spacing inside both ends, and nearer to i (j's owner
+        // tests the other half of the segment)
+        if (s < half || s > length - half || s > 0.5 * length) continue;
+        const double p[3] = {x[i][0] + s * u[0], x[i][1] + s * u[1], x[i][2] + s * u[2]};
+        const double w[3] = {x[k][0] - p[0], x[k][1] - p[1], x[k][2] - p[2]};
+        if (dot(w, w) >= half * half) continue;
+        offsets.clear();
+        for (int q : twins) {
+          double v[3] = {x[q][0] - p[0], x[q][1] - p[1], x[q][2] - p[2]};
+          if (dot(v, v) > reach * reach) continue;
+          const double along = dot(v, u);
+          for (int a = 0; a < 3; a++) v[a] -= along * u[a];
+          if (dot(v, v) >= margin * margin) offsets.push_back({v[0], v[1], v[2]});
+        }
+        for (size_t a = 0; a < offsets.size() && !sees; a++)
+          for (size_t b = a + 1; b < offsets.size() && !sees; b++) {
+            const double ab = dot(offsets[a].data(), offsets[b].data());
+            const double aa = dot(offsets[a].data(), offsets[a].data());
+            const double bb = dot(offsets[b].data(), offsets[b].data());
+            sees = ab < OPPOSITE * std::sqrt(aa * bb);
+          }
+        if (!sees) continue;
+        if (length < found[2]) {
+          // the body's thickness along the pair: the extent of the twins
+          // on the segment, plus a spacing
+          double lo = HUGE_VAL, hi = -HUGE_VAL;
+          for (int q : twins) {
+            double v[3] = {x[q][0] - x[i][0], x[q][1] - x[i][1], x[q][2] - x[i][2]};
+            const double along = dot(v, u);
+            for (int a = 0; a < 3; a++) v[a] -= along * u[a];
+            if (along <= 0.0 || along >= length || dot(v, v) >= half * half) continue;
+            lo = std::min(lo, along);
+            hi = std::max(hi, along);
+          }
+          found[0] = (double) tag[i];
+          found[1] = (double) tag[j];
+          found[2] = length;
+          for (int a = 0; a < 3; a++) found[3 + a] = p[a];
+          found[6] = hi - lo + dx;
+        }
+        break;
+      }
+    }
+    if (sees) nsee++;
+  }
+  MPI_Allreduce(nearest, nearest_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&nsee, &nsee_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+
+  if (nearest_all[1] > 0.0) {
+    const double mean = nearest_all[0] / nearest_all[1];
+    const double ratio = mean / dx;
+    if (ratio > SPACING_RATIO_MAX)
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix sph/fluid {}: the fluid particles are {:.4g} apart (the mean distance to "
+                 "the nearest one), {:.3g} times the spacing {:.4g} of their volume, mass over "
+                 "fix rheo density (the twins' and the bodies' volume too): were the fluid's "
+                 "masses set for another spacing than its lattice's?  Create the fluid on the "
+                 "bodies' spacing, with masses rho0 dx^{}",
+                 id, mean, ratio, dx, domain->dimension);
+  }
+
+  if (nsee_all > 0) {
+    const auto owner = SPHElastic::rank_max(-found[2], world);
+    MPI_Bcast(found, 7, MPI_DOUBLE, owner.rank, world);
+    const double thickness = found[6];
+    const int across = (int) std::lround(thickness / dx);
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid {}: fluid atoms {} and {}, {:.4g} apart within fix rheo's cut "
+               "{:.4g}, interact through a body near ({:.4g}, {:.4g}, {:.4g}), about {:.3g} "
+               "thick along their line ({} particle{} at the spacing {:.4g}); {} fluid atoms see "
+               "through a body so, and the fluid's pressure on one side acts on the fluid on "
+               "the other instead of on the body.  Where fluid lies on both sides, make the "
+               "body at least the cut thick ({} layers at this spacing), or refine fluid and "
+               "body together until it is",
+               id, (tagint) found[0], (tagint) found[1], found[2], cut, found[3], found[4],
+               found[5], thickness, across, across == 1 ? "" : "s", dx, nsee_all,
+               (int) std::ceil(cut / dx - 1.0e-6));
+  }
 }

@@ -22,6 +22,8 @@ FixStyle(sph/fluid,FixSPHFluid);
 
 #include "fix.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 /* ----------------------------------------------------------------------
@@ -41,6 +43,7 @@ class FixSPHFluid : public Fix {
   void post_constructor() override;
   int setmask() override;
   void init() override;
+  void init_list(int, class NeighList *) override;
   void setup_pre_exchange() override;
   void setup_pre_force(int) override;
   void setup(int) override;
@@ -62,12 +65,16 @@ class FixSPHFluid : public Fix {
   double dtf;                 // half a step's velocity kick per force/mass
   double fsum[3], fall[3];    // fluid force on this rank's twins, all ranks'
   int fall_current;
+  class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
+  double spacing;           // the particle spacing V^(1/d) of the twins' volume V
 
   int source_of(int i, const char *when);
   void sync_twins(bool positions);
   void hand_back_forces();
   void show_accelerations();
   void check_setup();
+  void check_volumes(const std::vector<int> &fluid_type);
+  void check_thin_bodies(const std::vector<int> &twin_type);
   void check_fixes();
   void check_timestep();
 };

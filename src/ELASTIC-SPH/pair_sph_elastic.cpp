@@ -354,9 +354,45 @@ void PairSPHElastic::init_style()
   check_units();
   check_atoms();
   check_material();
+  check_twins_coupled();
   compute_stable_dt();
   report_stable_dt();
   connect_partners();
+}
+
+/* ----------------------------------------------------------------------
+   the fluid coupling's needs that cannot wait for fix sph/fluid's init:
+   LAMMPS initialises the computes before the fixes, and RHEO's interface
+   reconstruction (4Feb2025) takes the first fix rheo/pressure in its
+   init without asking whether there is one, a segmentation fault without
+   it (pair rheo's check of it comes later, in its setup).  And twins of
+   create_sph_twins without fix sph/fluid: fix rheo would move them as
+   free RHEO solids, the fluid would push them and not the body
+------------------------------------------------------------------------- */
+
+void PairSPHElastic::check_twins_coupled()
+{
+  if (update->whichflag == 0) return;
+  if (!modify->get_fix_by_style("^sph/fluid$").empty() &&
+      modify->get_fix_by_style("^rheo/pressure$").empty())
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid needs fix rheo/pressure (e.g. 'fix ID all rheo/pressure * "
+               "linear', after fix rheo): RHEO's interface reconstruction takes the fluid's "
+               "equation of state from it");
+  int flag = -1, cols = -1;
+  const int index = atom->find_custom("sph_twin", flag, cols);
+  if (index < 0 || flag != 0 || cols != 0) return;
+  if (!modify->get_fix_by_style("^sph/fluid$").empty()) return;
+  bigint mine = 0, all = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->ivector[index][i]) mine++;
+  MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (all > 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "There are {} twins of create_sph_twins but no fix sph/fluid: fix rheo would "
+               "move them as free RHEO solids and the fluid would push them, not the bodies; "
+               "add 'fix ID all sph/fluid' after fix rheo",
+               all);
 }
 
 /* ----------------------------------------------------------------------

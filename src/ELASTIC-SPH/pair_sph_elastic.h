@@ -122,6 +122,7 @@ class PairSPHElastic : public Pair {
   void report_stable_dt();
   void grow_output();
   void check_atoms();
+  void check_twins_coupled();
   void compute_stable_dt();
   void connect_partners();
   // f_i += fij and its virial share for a pair from a full list, del = x_i - x_j
