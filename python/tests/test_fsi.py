@@ -452,3 +452,124 @@ def test_twins_within_depth(lmp, depth, expected):
         to_edge = np.minimum.reduce([x0[inner, 0] - 0.0, 0.10 - x0[inner, 0],
                                      x0[inner, 1] + 0.04, 0.06 - x0[inner, 1]])
         assert to_edge.max() <= depth + 0.005 + 1e-12
+
+
+# three bodies on a 1 cm lattice across the ranks' boundaries (x = 0.25 on 2
+# ranks, x = 0.125, 0.25, 0.375 on 4): two 20 x 7 rectangles, twins 1 and 2
+# spacings deep, and a 20 x 16 block with a 6 x 4 hole, 2.5 spacings deep,
+# stretched to twice its length along x first (the rule looks at the
+# reference positions; the ghosts come by the current ones)
+DEPTH_BODIES = SETTINGS + """
+{processors}
+region box block 0 0.50 0 0.40 -0.5 0.5 units box
+create_box 3 box
+lattice sq 0.01 origin 0.5 0.5 0.0
+region ra block 0.15 0.35 0.01 0.08 INF INF units box
+region rb block 0.15 0.35 0.10 0.17 INF INF units box
+region outer block 0.05 0.25 0.19 0.35 INF INF units box
+region hole block 0.10 0.16 0.24 0.28 INF INF units box side out
+region rc intersect 2 outer hole
+create_atoms 2 region ra
+create_atoms 2 region rb
+create_atoms 2 region rc
+group ba region ra
+group bb region rb
+group bc region rc
+set group all volume 1e-4
+set group all mass 0.1
+set group all mol 1
+set group all rheo/rho 1000
+set group all rheo/status 1
+""" + PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + """
+create_sph_twins ba 3 depth 0.01
+create_sph_twins bb 3 depth 0.02
+displace_atoms bc ramp x 0.0 0.2 x 0.05 0.25 units box
+create_sph_twins bc 3 depth 0.025
+write_dump all custom atoms.txt id type x y i_sph_twin modify sort id format float %.17g
+"""
+
+
+def depth_reference(points: np.ndarray, depth: float) -> set:
+    """create_sph_twins' depth rule by brute force: the spacing is the
+    nearest distance, surface points have neighbours within 1.5 spacings
+    whose relative positions sum to more than half a spacing, and the
+    points within depth of a surface point are chosen (as lattice cells)."""
+    d = points[:, None, :] - points[None, :, :]
+    r = np.sqrt((d ** 2).sum(axis=2))
+    spacing = r[r > 0].min()
+    near = r <= 1.5 * spacing
+    moment = np.einsum("ij,ijk->ik", near, -d)
+    surface = np.linalg.norm(moment, axis=1) > 0.5 * spacing
+    chosen = (r[:, surface] <= depth * (1 + 1e-12)).any(axis=1)
+    return {tuple(c) for c in np.rint((points[chosen] - 0.005) / 0.01).astype(int)}
+
+
+def twin_cells(path) -> dict:
+    """The lattice cells (i, j) of the sources of the twins in a dump of
+    DEPTH_BODIES, by body (the cells' rows tell the bodies apart)."""
+    atoms = np.loadtxt(path, skiprows=9)
+    ids, typ, xy, src = atoms[:, 0].astype(int), atoms[:, 1], atoms[:, 2:4], atoms[:, 4]
+    row = {i: k for k, i in enumerate(ids)}
+    # the stretched body's reference positions: x = x0 + (x0 - 0.05)
+    xy[:, 0] = np.where(xy[:, 1] > 0.18, (xy[:, 0] + 0.05) / 2, xy[:, 0])
+    cells = {"ba": set(), "bb": set(), "bc": set()}
+    for s in src[typ == 3].astype(int):
+        i, j = np.rint((xy[row[s]] - 0.005) / 0.01).astype(int)
+        assert typ[row[s]] == 2
+        cells["ba" if j < 9 else "bb" if j < 18 else "bc"].add((i, j))
+    return cells
+
+
+def test_twins_within_depth_any_ranks(tmp_path):
+    """The depth rule picks the same atoms on 1, 2 and 4 ranks (each rank
+    sees only the body atoms near its own), and the right ones: on a 20 x 7
+    rectangle 1 spacing deep, the two outer rings (50 + 42 = 92 atoms), 2
+    spacings deep three rings (126); around a hole, what the rule gives by
+    brute force."""
+    results = {}
+    for nprocs in (1, 2, 4):
+        proc = f"processors {nprocs} 1 1"
+        rc, out = run_lmp(DEPTH_BODIES.format(processors=proc), tmp_path, nprocs=nprocs)
+        assert rc == 0, out[-2000:]
+        results[nprocs] = twin_cells(tmp_path / "atoms.txt")
+    assert results[2] == results[1]
+    assert results[4] == results[1]
+    cells = results[1]
+    assert len(cells["ba"]) == 92 and len(cells["bb"]) == 126
+
+    def rings(j0, k):
+        # the cells of a 20 x 7 rectangle whose ring (distance in cells
+        # to the nearest edge) is at most k
+        return {(i, j) for i in range(15, 35) for j in range(j0, j0 + 7)
+                if min(i - 15, 34 - i, j - j0, j0 + 6 - j) <= k}
+
+    assert cells["ba"] == rings(1, 1)
+    assert cells["bb"] == rings(10, 2)
+    c = {(i, j) for i in range(5, 25) for j in range(19, 35)
+         if not (10 <= i < 16 and 24 <= j < 28)}
+    points = 0.005 + 0.01 * np.array(sorted(c), dtype=float)
+    assert cells["bc"] == depth_reference(points, 0.025)
+    assert 100 < len(cells["bc"]) < len(c)
+
+
+@pytest.mark.parametrize("comm, message", [
+    ("comm_style tiled", "which comm_style tiled allows only up to the periodic box length 0.1"),
+    ("neighbor 0.003 multi\ncomm_modify mode multi", "which comm_modify mode multi does not give"),
+])
+def test_twins_depth_beyond_comm(tmp_path, comm, message):
+    """create_sph_twins ... depth D needs ghosts within D + 1.5 spacings:
+    comm_style tiled cannot give more than the periodic box length, and
+    comm_modify mode multi gives no single cut-off."""
+    script = (SETTINGS.replace("boundary f f p", "boundary p f p") + """
+region box block 0 0.10 0 0.10 -0.5 0.5 units box
+create_box 3 box
+lattice sq 0.01 origin 0.5 0.5 0.0
+region body block 0 0.10 0 0.05 INF INF units box
+create_atoms 2 region body
+group body type 2
+set group all volume 1e-4
+set group all mass 0.1
+set group all rheo/rho 1000
+set group all rheo/status 1
+""" + PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + comm + "\n")
+    assert message in refused(tmp_path, script, "create_sph_twins body 3 depth 0.09")
