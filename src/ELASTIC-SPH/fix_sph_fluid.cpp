@@ -422,6 +422,25 @@ void FixSPHFluid::check_setup()
   }
   MPI_Allreduce(bad, bad_all, 5, MPI_INT, MPI_MAX, world);
   MPI_Allreduce(example, example_all, 5, MPI_LMP_TAGINT, MPI_MAX, world);
+
+  // elastic atoms but no twin at all: the twins' source IDs were not read
+  // back (read_data without the SPH_TWINS section, write_data nofix), and
+  // the former twins would stand as rigid walls
+  bigint counts[2] = {0, 0}, counts_all[2];
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    if (src[i]) counts[0]++;
+    if (pair->solid_type(type[i])) counts[1]++;
+  }
+  MPI_Allreduce(counts, counts_all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (counts_all[0] == 0 && counts_all[1] > 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid {}: {} elastic atoms but no twins (i_sph_twin is 0 everywhere): "
+               "create them with create_sph_twins; after read_data, read the data file's "
+               "SPH_TWINS section ('fix SPH_TWINS all property/atom i_sph_twin' before read_data, "
+               "'read_data ... fix SPH_TWINS NULL SPH_TWINS'; not written by write_data nofix), "
+               "or continue from write_restart/read_restart",
+               id, counts_all[1]);
   if (bad_all[0])
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: twin atom {} is not on its source atom's rank; twins are made "
