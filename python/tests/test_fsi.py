@@ -452,3 +452,195 @@ def test_twins_within_depth(lmp, depth, expected):
         to_edge = np.minimum.reduce([x0[inner, 0] - 0.0, 0.10 - x0[inner, 0],
                                      x0[inner, 1] + 0.04, 0.06 - x0[inner, 1]])
         assert to_edge.max() <= depth + 0.005 + 1e-12
+
+
+# three bodies on a 1 cm lattice across the ranks' boundaries (x = 0.25 on 2
+# ranks, x = 0.125, 0.25, 0.375 on 4): two 20 x 7 rectangles, twins 1 and 2
+# spacings deep, and a 20 x 16 block with a 6 x 4 hole, 2.5 spacings deep,
+# stretched to twice its length along x first (the rule looks at the
+# reference positions; the ghosts come by the current ones)
+DEPTH_BODIES = SETTINGS + """
+{processors}
+region box block 0 0.50 0 0.40 -0.5 0.5 units box
+create_box 3 box
+lattice sq 0.01 origin 0.5 0.5 0.0
+region ra block 0.15 0.35 0.01 0.08 INF INF units box
+region rb block 0.15 0.35 0.10 0.17 INF INF units box
+region outer block 0.05 0.25 0.19 0.35 INF INF units box
+region hole block 0.10 0.16 0.24 0.28 INF INF units box side out
+region rc intersect 2 outer hole
+create_atoms 2 region ra
+create_atoms 2 region rb
+create_atoms 2 region rc
+group ba region ra
+group bb region rb
+group bc region rc
+set group all volume 1e-4
+set group all mass 0.1
+set group all mol 1
+set group all rheo/rho 1000
+set group all rheo/status 1
+""" + PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + """
+create_sph_twins ba 3 depth 0.01
+create_sph_twins bb 3 depth 0.02
+displace_atoms bc ramp x 0.0 0.2 x 0.05 0.25 units box
+create_sph_twins bc 3 depth 0.025
+write_dump all custom atoms.txt id type x y i_sph_twin modify sort id format float %.17g
+"""
+
+
+def depth_reference(points: np.ndarray, depth: float) -> set:
+    """create_sph_twins' depth rule by brute force: the spacing is the
+    nearest distance, surface points have neighbours within 1.5 spacings
+    whose relative positions sum to more than half a spacing, and the
+    points within depth of a surface point are chosen (as lattice cells)."""
+    d = points[:, None, :] - points[None, :, :]
+    r = np.sqrt((d ** 2).sum(axis=2))
+    spacing = r[r > 0].min()
+    near = r <= 1.5 * spacing
+    moment = np.einsum("ij,ijk->ik", near, -d)
+    surface = np.linalg.norm(moment, axis=1) > 0.5 * spacing
+    chosen = (r[:, surface] <= depth * (1 + 1e-12)).any(axis=1)
+    return {tuple(c) for c in np.rint((points[chosen] - 0.005) / 0.01).astype(int)}
+
+
+def twin_cells(path) -> dict:
+    """The lattice cells (i, j) of the sources of the twins in a dump of
+    DEPTH_BODIES, by body (the cells' rows tell the bodies apart)."""
+    atoms = np.loadtxt(path, skiprows=9)
+    ids, typ, xy, src = atoms[:, 0].astype(int), atoms[:, 1], atoms[:, 2:4], atoms[:, 4]
+    row = {i: k for k, i in enumerate(ids)}
+    # the stretched body's reference positions: x = x0 + (x0 - 0.05)
+    xy[:, 0] = np.where(xy[:, 1] > 0.18, (xy[:, 0] + 0.05) / 2, xy[:, 0])
+    cells = {"ba": set(), "bb": set(), "bc": set()}
+    for s in src[typ == 3].astype(int):
+        i, j = np.rint((xy[row[s]] - 0.005) / 0.01).astype(int)
+        assert typ[row[s]] == 2
+        cells["ba" if j < 9 else "bb" if j < 18 else "bc"].add((i, j))
+    return cells
+
+
+@pytest.mark.slow
+def test_twins_within_depth_any_ranks(tmp_path):
+    """The depth rule picks the same atoms on 1, 2 and 4 ranks (each rank
+    sees only the body atoms near its own), and the right ones: on a 20 x 7
+    rectangle 1 spacing deep, the two outer rings (50 + 42 = 92 atoms), 2
+    spacings deep three rings (126); around a hole, what the rule gives by
+    brute force."""
+    results = {}
+    for nprocs in (1, 2, 4):
+        proc = f"processors {nprocs} 1 1"
+        rc, out = run_lmp(DEPTH_BODIES.format(processors=proc), tmp_path, nprocs=nprocs)
+        assert rc == 0, out[-2000:]
+        results[nprocs] = twin_cells(tmp_path / "atoms.txt")
+    assert results[2] == results[1]
+    assert results[4] == results[1]
+    cells = results[1]
+    assert len(cells["ba"]) == 92 and len(cells["bb"]) == 126
+
+    def rings(j0, k):
+        # the cells of a 20 x 7 rectangle whose ring (distance in cells
+        # to the nearest edge) is at most k
+        return {(i, j) for i in range(15, 35) for j in range(j0, j0 + 7)
+                if min(i - 15, 34 - i, j - j0, j0 + 6 - j) <= k}
+
+    assert cells["ba"] == rings(1, 1)
+    assert cells["bb"] == rings(10, 2)
+    c = {(i, j) for i in range(5, 25) for j in range(19, 35)
+         if not (10 <= i < 16 and 24 <= j < 28)}
+    points = 0.005 + 0.01 * np.array(sorted(c), dtype=float)
+    assert cells["bc"] == depth_reference(points, 0.025)
+    assert 100 < len(cells["bc"]) < len(c)
+
+
+@pytest.mark.parametrize("comm, message", [
+    ("comm_style tiled", "which comm_style tiled allows only up to the periodic box length 0.1"),
+    ("neighbor 0.003 multi\ncomm_modify mode multi", "which comm_modify mode multi does not give"),
+])
+def test_twins_depth_beyond_comm(tmp_path, comm, message):
+    """create_sph_twins ... depth D needs ghosts within D + 1.5 spacings:
+    comm_style tiled cannot give more than the periodic box length, and
+    comm_modify mode multi gives no single cut-off."""
+    script = (SETTINGS.replace("boundary f f p", "boundary p f p") + """
+region box block 0 0.10 0 0.10 -0.5 0.5 units box
+create_box 3 box
+lattice sq 0.01 origin 0.5 0.5 0.0
+region body block 0 0.10 0 0.05 INF INF units box
+create_atoms 2 region body
+group body type 2
+set group all volume 1e-4
+set group all mass 0.1
+set group all rheo/rho 1000
+set group all rheo/status 1
+""" + PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + comm + "\n")
+    assert message in refused(tmp_path, script, "create_sph_twins body 3 depth 0.09")
+
+
+# a blob run written to a data file and read back after 'clear': per-type
+# masses set (atom_style hybrid keeps them beside the per-atom ones, and
+# write_data writes them), and the sections of the twins' source IDs and of
+# RHEO's interface forces read into fix property/atom defined beforehand
+DATA_STATE = "compute state all property/atom x0x x0y vfrac rho rheo_status\n"
+DATA_DUMP = """write_dump all custom {name}.txt id type x y vx vy fx fy mass c_state[*] i_sph_twin &
+    modify sort id format float %.17g
+"""
+DATA_READ = SETTINGS + """{processors}
+fix SPH_TWINS all property/atom i_sph_twin
+fix FP all property/atom d2_fp_store 3
+read_data fsi.data fix SPH_TWINS NULL SPH_TWINS fix FP NULL rheo_interface_fix_property_atom
+""" + PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + COUPLE + "timestep 1e-4\n" + DATA_STATE
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_data_file_round_trip(tmp_path, nprocs):
+    """A coupled run written by write_data and read back by read_data in a
+    fresh LAMMPS (after 'clear') has the same state (positions, velocities,
+    reference positions, volumes, masses, RHEO's density and status, the
+    twins' sources) and the same forces as the run that goes on, and ends
+    where it ends, on 1 and 2 ranks (split through the body)."""
+    proc = "processors 2 1 1" if nprocs == 2 else ""
+    script = (blob_script(proc) + DATA_STATE + "mass * 1.0\nrun 50\nwrite_data fsi.data nocoeff\nrun 0\n"
+              + DATA_DUMP.format(name="going_on_0") + "run 20\n"
+              + DATA_DUMP.format(name="going_on_20") + "clear\n"
+              + DATA_READ.format(processors=proc) + "run 0\n"
+              + DATA_DUMP.format(name="read_0") + "run 20\n"
+              + DATA_DUMP.format(name="read_20"))
+    rc, out = run_lmp(script, tmp_path, nprocs=nprocs)
+    assert rc == 0, out[-2000:]
+    for step in (0, 20):
+        going_on = np.loadtxt(tmp_path / f"going_on_{step}.txt", skiprows=9)
+        read = np.loadtxt(tmp_path / f"read_{step}.txt", skiprows=9)
+        assert read.shape == going_on.shape == (100, 15)
+        # id, type, status, twin source: exact
+        for col in (0, 1, 13, 14):
+            assert np.array_equal(read[:, col], going_on[:, col]), (step, col)
+        assert np.count_nonzero(read[:, 14]) == 32
+        # mass, x0, vfrac: as written (17 digits)
+        for col in (8, 9, 10, 11):
+            assert np.array_equal(read[:, col], going_on[:, col]), (step, col)
+        # positions, velocities, forces, density: data files hold 16
+        # significant digits; measured on 1 and 2 ranks: forces 2.9e-13 N/m
+        # (of 4 N/m), density 4.5e-13 kg/m^2 (of 1000) at the first step,
+        # positions 3e-17 m and velocities 5e-15 m/s after 20 steps (before
+        # the fix, the fluid's density read as rmass/vfrac: forces 4.8 N/m off)
+        for col, scale in ((2, 0.01), (3, 0.01), (4, 2.0), (5, 2.0), (6, 4.0), (7, 4.0),
+                           (12, 1000.0)):
+            assert np.abs(read[:, col] - going_on[:, col]).max() <= 1e-12 * scale, (step, col)
+
+
+def test_data_file_needs_masses_and_twins(tmp_path):
+    """write_data without per-type masses would write a Masses section of
+    zeros, which read_data refuses: refused, naming 'mass * 1.0' and
+    write_restart.  A data file read without its SPH_TWINS section (here
+    written with nofix) leaves no twins: fix sph/fluid refuses to run
+    rather than let the former twins stand as rigid walls."""
+    error = refused(tmp_path, blob_script(), "write_data fsi.data nocoeff")
+    assert "'mass * 1.0'" in error and "write_restart" in error
+    data = tmp_path / "fsi.data"
+    lmp = make_lammps()
+    lmp.commands_string(blob_script() + f"mass * 1.0\nwrite_data {data} nocoeff nofix\n")
+    lmp.close()
+    script = SETTINGS + f"read_data {data}\n" + PAIR + RHEO.format(
+        kernel="quintic 0", rho3="1000") + COUPLE + "timestep 1e-4\n"
+    error = refused(tmp_path, script, "run 0")
+    assert "would not see the 32 elastic atoms" in error and "SPH_TWINS NULL SPH_TWINS" in error

@@ -20,7 +20,9 @@
 #include "atom.h"
 #include "domain.h"
 #include "error.h"
+#include "input.h"
 
+#include <algorithm>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -134,7 +136,10 @@ void AtomVecSPHElastic::record_reference_box()
 
 /* ----------------------------------------------------------------------
    data file gives x0 explicitly (a deformed state can be written and
-   read back); the current density starts at the reference density
+   read back); the current density starts at the reference density,
+   unless the data file has a density column of its own: a sub-style of
+   atom_style hybrid that lists rho in its Atoms line (rheo) keeps the
+   density of every atom, the fluid's included, in it
 ------------------------------------------------------------------------- */
 
 void AtomVecSPHElastic::data_atom_post(int ilocal)
@@ -147,10 +152,39 @@ void AtomVecSPHElastic::data_atom_post(int ilocal)
     error->one(FLERR,
                "Invalid mass {} for atom {} in atom_style sph/elastic data file: must be > 0",
                rmass[ilocal], atom->tag[ilocal]);
-  rho[ilocal] = rmass[ilocal] / vfrac[ilocal];
+  if (!density_in_data()) rho[ilocal] = rmass[ilocal] / vfrac[ilocal];
   drho[ilocal] = 0.0;
   record_reference_box();
   for (int k = 0; k < NSYMM; k++) tau[ilocal][k] = 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool AtomVecSPHElastic::density_in_data() const
+{
+  const auto &fields = atom->avec->fields_data_atom;
+  return atom->avec != this && std::find(fields.begin(), fields.end(), "rho") != fields.end();
+}
+
+/* ----------------------------------------------------------------------
+   write_data (which calls init() first) of atom_style hybrid with a
+   sub-style of per-type masses (rheo, full, ...) writes a Masses section
+   of the per-type masses, 0 where none was set, and read_data refuses
+   a mass of 0 (LAMMPS 4Feb2025): refused here, with what to do
+------------------------------------------------------------------------- */
+
+void AtomVecSPHElastic::init()
+{
+  AtomVec::init();
+  if (!atom->mass || !input->command || strcmp(input->command, "write_data") != 0) return;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (!atom->mass_setflag[t])
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Write_data: atom_style {} keeps per-type masses beside sph/elastic's per-atom "
+                 "ones, and type {} has none: the data file's Masses section would hold 0, which "
+                 "read_data refuses.  Set every type's mass first (unused, the per-atom masses "
+                 "count: 'mass * 1.0'), or use write_restart",
+                 atom->atom_style, t);
 }
 
 /* ----------------------------------------------------------------------

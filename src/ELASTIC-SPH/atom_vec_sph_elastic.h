@@ -28,6 +28,7 @@ class AtomVecSPHElastic : public AtomVec {
  public:
   AtomVecSPHElastic(class LAMMPS *);
 
+  void init() override;
   void grow_pointers() override;
   void force_clear(int, size_t) override;
   void create_atom_post(int) override;
@@ -44,6 +45,8 @@ class AtomVecSPHElastic : public AtomVec {
   double reference_length(int a) const { return reference_prd[a]; }
 
  private:
+  bool density_in_data() const;
+
   double reference_prd[3] = {0.0, 0.0, 0.0};
   bool reference_box_set = false;
   double **x0;

@@ -26,7 +26,6 @@
 #include "fix_sph_fluid.h"
 #include "group.h"
 #include "modify.h"
-#include "sph_elastic_mpi.h"
 #include "sph_mirror_surface.h"
 
 #include <algorithm>
@@ -35,6 +34,12 @@
 #include <vector>
 
 using namespace LAMMPS_NS;
+
+namespace {
+constexpr double BIG = 1.0e300;
+// ghost cut-off and spacing bound a little wider than needed, for round-off
+constexpr double GHOST_MARGIN = 1.0e-6;
+}    // namespace
 
 /* ---------------------------------------------------------------------- */
 
@@ -86,6 +91,14 @@ void CreateSPHTwins::command(int narg, char **arg)
 
   const int itwin = FixSPHFluid::twin_index(lmp, true);
 
+  // with a depth: ghost atoms around each rank's own (this can move atoms
+  // to other ranks, as the setup of a run does)
+  double bound = 0.0;
+  if (depth > 0.0) {
+    bound = spacing_bound(bodybit, depth);
+    if (bound > 0.0) acquire_ghosts(bodybit, depth, bound);
+  }
+
   // no twins of twins, no second set of twins for a body
   const int nlocal_previous = atom->nlocal;
   int again = 0, again_all = 0;
@@ -105,7 +118,8 @@ void CreateSPHTwins::command(int narg, char **arg)
   std::vector<int> sources;
   for (int i = 0; i < nlocal_previous; i++)
     if (atom->mask[i] & bodybit) sources.push_back(i);
-  if (depth > 0.0) sources = near_surface(sources, depth);
+  if (depth > 0.0)
+    sources = bound > 0.0 ? near_surface(sources, bodybit, depth, bound) : std::vector<int>();
 
   // as create_atoms: the ghosts are overwritten by the new atoms
   if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
@@ -147,37 +161,191 @@ void CreateSPHTwins::command(int narg, char **arg)
 }
 
 /* ----------------------------------------------------------------------
+   an upper bound of the body's particle spacing (the smallest distance
+   between two of its atoms' reference positions): the smallest such
+   distance among each rank's own atoms, or, if no rank has two, the
+   diagonal of the body's bounding box.  0 if the body has fewer than two
+   atoms (or two on the same spot): then no atom is a surface atom
+------------------------------------------------------------------------- */
+
+double CreateSPHTwins::spacing_bound(int bodybit, double depth) const
+{
+  std::vector<double> mine;
+  double lo[3] = {BIG, BIG, BIG}, hi[3] = {-BIG, -BIG, -BIG};
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & bodybit)) continue;
+    const double *X = atom->x0[i];
+    mine.insert(mine.end(), {X[0], X[1], X[2]});
+    for (int a = 0; a < 3; a++) {
+      lo[a] = std::min(lo[a], X[a]);
+      hi[a] = std::max(hi[a], X[a]);
+    }
+  }
+  bigint n = (bigint) mine.size() / 3, nbody = 0;
+  MPI_Allreduce(&n, &nbody, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (nbody < 2) return 0.0;
+
+  // the nearest pair of this rank's atoms: no farther than the diagonal
+  // of their bounding box, so a search in cells of that size finds it
+  double nearest = BIG;
+  if (n >= 2) {
+    const double diagonal =
+        std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    for (double cell = depth;; cell *= 2.0) {
+      const double d = SPHElastic::nearest_distance(mine, 3, 0, cell);
+      if (d < cell || cell > diagonal) {
+        nearest = d;
+        break;
+      }
+    }
+  }
+  double bound = BIG;
+  MPI_Allreduce(&nearest, &bound, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (bound < BIG) return bound;
+
+  double lo_all[3], hi_all[3];
+  MPI_Allreduce(lo, lo_all, 3, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(hi, hi_all, 3, MPI_DOUBLE, MPI_MAX, world);
+  return std::sqrt((hi_all[0] - lo_all[0]) * (hi_all[0] - lo_all[0]) +
+                   (hi_all[1] - lo_all[1]) * (hi_all[1] - lo_all[1]) +
+                   (hi_all[2] - lo_all[2]) * (hi_all[2] - lo_all[2]));
+}
+
+/* ----------------------------------------------------------------------
+   ghost atoms within depth + 1.5 spacings (the bound) of each rank's own
+   atoms, in the reference configuration, by LAMMPS's own border
+   communication with a ghost cut-off raised for the purpose, after
+   remapping and migrating the atoms as the setup of a run does.  The
+   ghosts are chosen by their current positions, so the cut-off adds the
+   spread of the body's displacements from the reference positions
+------------------------------------------------------------------------- */
+
+void CreateSPHTwins::acquire_ghosts(int bodybit, double depth, double bound)
+{
+  // two atoms' current distance differs from their reference one by at
+  // most the spread of the displacements (none for a translated body)
+  double dlo[3] = {BIG, BIG, BIG}, dhi[3] = {-BIG, -BIG, -BIG}, dlo_all[3], dhi_all[3];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & bodybit)) continue;
+    double d[3] = {atom->x[i][0] - atom->x0[i][0], atom->x[i][1] - atom->x0[i][1],
+                   atom->x[i][2] - atom->x0[i][2]};
+    domain->minimum_image_big(d);
+    for (int a = 0; a < 3; a++) {
+      dlo[a] = std::min(dlo[a], d[a]);
+      dhi[a] = std::max(dhi[a], d[a]);
+    }
+  }
+  MPI_Allreduce(dlo, dlo_all, 3, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(dhi, dhi_all, 3, MPI_DOUBLE, MPI_MAX, world);
+  const double spread = std::sqrt((dhi_all[0] - dlo_all[0]) * (dhi_all[0] - dlo_all[0]) +
+                                  (dhi_all[1] - dlo_all[1]) * (dhi_all[1] - dlo_all[1]) +
+                                  (dhi_all[2] - dlo_all[2]) * (dhi_all[2] - dlo_all[2]));
+  const double cutoff = (depth + 1.5 * bound + spread) * (1.0 + GHOST_MARGIN);
+
+  if (comm->mode != Comm::SINGLE)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Create_sph_twins depth needs ghost atoms within one cut-off, which comm_modify "
+               "mode {} does not give: use comm_modify mode single before create_sph_twins and "
+               "switch back after it",
+               comm->mode == Comm::MULTI ? "multi" : "multi/old");
+  if (comm->style == Comm::TILED) {
+    // comm_style tiled sends each atom at most once across a periodic
+    // boundary: its ghost cut-off cannot exceed the periodic box length
+    for (int a = 0; a < domain->dimension; a++) {
+      double length = domain->prd[a];
+      if (domain->triclinic) {
+        const double *h = domain->h_inv;
+        const double norm = a == 0 ? std::sqrt(h[0] * h[0] + h[5] * h[5] + h[4] * h[4])
+            : a == 1               ? std::sqrt(h[1] * h[1] + h[3] * h[3])
+                                   : h[2];
+        length = 1.0 / norm;
+      }
+      if (domain->periodicity[a] && cutoff > length)
+        error->all(
+            FLERR, Error::NOLASTLINE,
+            "Create_sph_twins depth {}: the body atoms within {:.6g} (the depth, 1.5 particle "
+            "spacings and the spread of the displacements) must reach each rank as ghosts, "
+            "which comm_style tiled allows only up to the periodic box length {}; use "
+            "comm_style brick while creating the twins, or a smaller depth",
+            depth, cutoff, length);
+    }
+  }
+
+  // atoms outside the box of a non-periodic dimension (a shrink-wrapped
+  // box after a run) would be lost in the migration unless it grows to them
+  int outside = 0, outside_all = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int a = 0; a < domain->dimension; a++)
+      if (!domain->periodicity[a] &&
+          (atom->x[i][a] < domain->boxlo[a] || atom->x[i][a] >= domain->boxhi[a]))
+        outside = 1;
+  MPI_Allreduce(&outside, &outside_all, 1, MPI_INT, MPI_MAX, world);
+
+  const double cutghostuser = comm->cutghostuser;
+  comm->cutghostuser = std::max(cutghostuser, cutoff);
+  comm->init();    // sizes of the border messages: fixes' data, ghost velocities
+  if (domain->triclinic) domain->x2lamda(atom->nlocal);
+  domain->pbc();
+  if (outside_all) domain->reset_box();
+  comm->setup();
+  comm->exchange();
+  comm->borders();
+  if (domain->triclinic) domain->lamda2x(atom->nlocal + atom->nghost);
+  comm->cutghostuser = cutghostuser;
+
+  bigint nlocal = atom->nlocal, natoms = 0;
+  MPI_Allreduce(&nlocal, &natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (natoms != atom->natoms)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Create_sph_twins depth: {} atoms were lost while moving the atoms to the ranks "
+               "that own their positions (outside a fixed boundary?)",
+               atom->natoms - natoms);
+}
+
+/* ----------------------------------------------------------------------
    the body atoms (local indices) within depth of the body's surface in
    the reference configuration.  Surface atoms are those whose neighbours
    within 1.5 spacings (the nearest and, on a square or cubic lattice, the
    diagonal ones) are off-centre: their first moment exceeds half a
-   spacing (it vanishes inside a lattice).  Every rank gets every body
-   atom's reference position: fine for bodies of up to some 1e5 atoms
+   spacing (it vanishes inside a lattice).  Each rank looks at its own
+   atoms and the ghosts acquire_ghosts() brought, each atom once (an atom
+   map points to the owned atom or the first of its periodic images; their
+   reference positions are the same)
 ------------------------------------------------------------------------- */
 
-std::vector<int> CreateSPHTwins::near_surface(const std::vector<int> &body, double depth) const
+std::vector<int> CreateSPHTwins::near_surface(const std::vector<int> &body, int bodybit,
+                                              double depth, double bound) const
 {
-  std::vector<double> mine;
-  for (int i : body) mine.insert(mine.end(), {atom->x0[i][0], atom->x0[i][1], atom->x0[i][2]});
-  const std::vector<double> all = SPHElastic::gather_all(mine, world);
-  if (all.empty()) return body;
+  // the body's atoms this rank sees: its own first, in the order of body
+  std::vector<double> points;
+  for (int i : body) points.insert(points.end(), {atom->x0[i][0], atom->x0[i][1], atom->x0[i][2]});
+  for (int i = atom->nlocal; i < atom->nlocal + atom->nghost; i++)
+    if ((atom->mask[i] & bodybit) && atom->map(atom->tag[i]) == i)
+      points.insert(points.end(), {atom->x0[i][0], atom->x0[i][1], atom->x0[i][2]});
 
-  // the spacing: the nearest pair (searched in cells of growing size)
-  double extent = 0.0;
-  for (size_t k = 3; k < all.size(); k++) extent = std::max(extent, std::fabs(all[k] - all[k % 3]));
-  double spacing = depth;
-  for (double cell = depth;; cell *= 2.0) {
-    spacing = SPHElastic::nearest_distance(all, 3, 0, cell);
-    if (spacing < cell || cell > extent) break;
-  }
+  // the spacing: the nearest pair, which has an own atom on some rank and
+  // is no farther apart than the bound
+  std::vector<char> own(points.size() / 3, 0);
+  std::fill(own.begin(), own.begin() + body.size(), 1);
+  const double reach_bound = bound * (1.0 + GHOST_MARGIN);
+  double nearest = 2.0 * reach_bound, spacing = nearest;
+  if (!body.empty())
+    nearest = SPHElastic::nearest_distance(points, 3, 0, reach_bound, nearest, &own);
+  MPI_Allreduce(&nearest, &spacing, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (!(spacing <= reach_bound))
+    error->all(FLERR, Error::NOLASTLINE,
+               "Create_sph_twins depth: no two body atoms within {} of each other (bug)",
+               reach_bound);
+
   const double reach = 1.5 * spacing;
-  const SPHElastic::PointCells points(all, 3, 0, reach);
+  const SPHElastic::PointCells cells(points, 3, 0, reach);
   std::vector<double> surface;
-  for (int c = 0; c < points.size(); c++) {
-    const double *X = points.point(c);
+  for (int c = 0; c < cells.size(); c++) {
+    const double *X = cells.point(c);
     double moment[3] = {0.0, 0.0, 0.0};
-    points.visit_near(X, [&](int k) {
-      const double *Y = points.point(k);
+    cells.visit_near(X, [&](int k) {
+      const double *Y = cells.point(k);
       const double d[3] = {Y[0] - X[0], Y[1] - X[1], Y[2] - X[2]};
       if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= reach * reach)
         for (int a = 0; a < 3; a++) moment[a] += d[a];

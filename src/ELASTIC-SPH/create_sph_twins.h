@@ -40,7 +40,10 @@ class CreateSPHTwins : public Command {
   void command(int, char **) override;
 
  private:
-  std::vector<int> near_surface(const std::vector<int> &body, double depth) const;
+  double spacing_bound(int bodybit, double depth) const;
+  void acquire_ghosts(int bodybit, double depth, double bound);
+  std::vector<int> near_surface(const std::vector<int> &body, int bodybit, double depth,
+                                double bound) const;
 };
 
 }    // namespace LAMMPS_NS

@@ -451,11 +451,24 @@ void FixSPHFluid::check_setup()
   MPI_Allreduce(bad, bad_all, 5, MPI_INT, MPI_MAX, world);
   MPI_Allreduce(example, example_all, 5, MPI_LMP_TAGINT, MPI_MAX, world);
   MPI_Allreduce(&ntwins_mine, &ntwins, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (ntwins == 0)
+
+  // no twin at all: none were created, or their source IDs were not read
+  // back (read_data without the SPH_TWINS section, write_data nofix), and
+  // the former twins would stand as rigid walls
+  if (ntwins == 0) {
+    bigint nelastic_mine = 0, nelastic = 0;
+    for (int i = 0; i < nlocal; i++)
+      if ((mask[i] & groupbit) && pair->solid_type(type[i])) nelastic_mine++;
+    MPI_Allreduce(&nelastic_mine, &nelastic, 1, MPI_LMP_BIGINT, MPI_SUM, world);
     error->all(FLERR, Error::NOLASTLINE,
-               "Fix sph/fluid {}: there are no twins, and the fluid would not see the bodies; "
-               "create them with create_sph_twins (after fix rheo, before the run)",
-               id);
+               "Fix sph/fluid {}: there are no twins (i_sph_twin is 0 everywhere), and the fluid "
+               "would not see the {} elastic atoms: create them with "
+               "create_sph_twins (after fix rheo, before the run); after read_data, read the data "
+               "file's SPH_TWINS section ('fix SPH_TWINS all property/atom i_sph_twin' before "
+               "read_data, 'read_data ... fix SPH_TWINS NULL SPH_TWINS'; not written by write_data "
+               "nofix), or continue from write_restart/read_restart",
+               id, nelastic);
+  }
   if (bad_all[0])
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: twin atom {} is not on its source atom's rank; twins are made "
