@@ -26,6 +26,19 @@ comm_modify vel yes
 newton off
 """
 
+# the atoms' properties once they exist: type 1 fluid, 2 elastic (mol 1,
+# RHEO solids); 1 cm spacing, water and a body of density 2000
+ATOMS = """group body type 2
+group fluid type 1
+set group all volume 1e-4
+set group body mass 0.2
+set group body mol 1
+set group fluid mass 0.1
+set group all rheo/rho 1000
+set group all rheo/status 0
+set group body rheo/status 1
+"""
+
 # 2d, SI, per unit depth: dx = 1 cm; water rho_f = 1000 (mass 0.1 kg/m per
 # particle), c_f = 10 m/s; an elastic block of rho_s = 2000 (E = 1 MPa,
 # c_s about 25 m/s): type 1 fluid, 2 elastic, 3 twins.  The body spans
@@ -40,16 +53,7 @@ region blockr block 0 0.08 0 0.04 INF INF units box
 region blob block 0.10 0.16 -0.01 0.05 INF INF units box
 create_atoms 2 region blockr
 create_atoms 1 region blob
-group body type 2
-group fluid type 1
-set group all volume 1e-4
-set group body mass 0.2
-set group body mol 1
-set group fluid mass 0.1
-set group all rheo/rho 1000
-set group all rheo/status 0
-set group body rheo/status 1
-"""
+""" + ATOMS
 PAIR = """pair_style hybrid/overlay rheo 0.03 artificial/visc 1.0 sph/icb 0.012 plane strain
 pair_coeff * * rheo
 pair_coeff 2 2 sph/icb 1e6 0.3

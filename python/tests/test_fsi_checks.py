@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import run_lmp
-from test_fsi import COUPLE, PAIR, RHEO, SETTINGS, blob_script, refused
+from test_fsi import ATOMS, COUPLE, PAIR, RHEO, SETTINGS, blob_script, refused
 
 
 def edit(script: str, *changes: tuple[str, str]) -> str:
@@ -120,16 +120,7 @@ region below block 0 0.12 -0.03 0 INF INF units box
 create_atoms 2 region plate
 create_atoms 1 region above
 {"create_atoms 1 region below" if below else ""}
-group body type 2
-group fluid type 1
-set group all volume 1e-4
-set group body mass 0.2
-set group body mol 1
-set group fluid mass 0.1
-set group all rheo/rho 1000
-set group all rheo/status 0
-set group body rheo/status 1
-""" + rheo + "create_sph_twins body 3\n" + COUPLE + "timestep 1e-4\n"
+""" + ATOMS + rheo + "create_sph_twins body 3\n" + COUPLE + "timestep 1e-4\n"
 
 
 THIN = ["interact through a body near", "about 0.03 thick along their line (3 particles at "
