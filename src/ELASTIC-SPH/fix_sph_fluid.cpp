@@ -80,7 +80,9 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
       if (strcmp(arg[iarg + 1], "auto") == 0) {
         substeps = 0;
       } else {
-        substeps = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+        substeps = utils::is_integer(arg[iarg + 1])
+            ? utils::inumeric(FLERR, arg[iarg + 1], false, lmp)
+            : 0;
         if (substeps < 1)
           error->all(FLERR, iarg + 1,
                      "Fix sph/fluid substeps must be a whole number of at least 1, or auto: {}",
@@ -142,7 +144,7 @@ void FixSPHFluid::post_constructor()
   if (substeps != 1) {
     estore_id = std::string(id) + "_SUBSTEP_FORCE";
     estore = static_cast<FixStoreAtom *>(
-        modify->add_fix(fmt::format("{} {} STORE/ATOM 3 0 0 0", estore_id, group->names[igroup])));
+        modify->add_fix(fmt::format("{} {} STORE/ATOM 6 0 0 0", estore_id, group->names[igroup])));
   }
 }
 
@@ -326,7 +328,7 @@ void FixSPHFluid::setup(int /*vflag*/)
     save_positions();
   }
   hand_back_forces();
-  show_accelerations();
+  show_accelerations(false);
 }
 
 /* ----------------------------------------------------------------------
@@ -468,11 +470,11 @@ void FixSPHFluid::hand_back_forces()
 
 void FixSPHFluid::end_of_step()
 {
-  show_accelerations();
+  show_accelerations(nsub > 1);
   if (nsub > 1) save_positions();
 }
 
-void FixSPHFluid::show_accelerations()
+void FixSPHFluid::show_accelerations(bool mean)
 {
   int flag = -1, cols = -1;
   const int ifp = atom->find_custom("fp_store", flag, cols);
@@ -483,11 +485,16 @@ void FixSPHFluid::show_accelerations()
   const int *src = atom->ivector[itwin];
   const double *rmass = atom->rmass;
   double **f = atom->f, **v = atom->v;
+  // sub-stepped, the source's acceleration over the whole step, not the
+  // one at its end, which the body's fastest modes dominate at the fluid's
+  // step: (v_end - v_start)/dt, in force/mass units
+  double **e = mean ? estore->astore : nullptr;
+  const double per_dt = mean ? 1.0 / (update->dt * force->ftm2v) : 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!src[i] || !(atom->mask[i] & groupbit)) continue;
     const int j = source_of(i, "at the end of the step");
     for (int a = 0; a < 3; a++) {
-      const double acc = f[j][a] / rmass[j];
+      const double acc = mean ? (v[j][a] - e[j][3 + a]) * per_dt : f[j][a] / rmass[j];
       fp_store[i][a] = -rmass[i] * acc;
       v[i][a] = v[j][a] + dtf * acc;
     }
@@ -1156,7 +1163,7 @@ void FixSPHFluid::store_elastic_forces()
   elastic_forces();
   double **e = estore->astore;
   for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) e[i][a] = 0.0;
+    for (int a = 0; a < 6; a++) e[i][a] = 0.0;
   for (int i : body)
     for (int a = 0; a < 3; a++) e[i][a] = f[i][a];
   for (int i : solid)
@@ -1181,6 +1188,7 @@ void FixSPHFluid::initial_integrate(int /*vflag*/)
     const double dtfm = dtf_outer / rmass[i];
     for (int a = 0; a < 3; a++) {
       x[i][a] = xsave[i][a];
+      e[i][3 + a] = v[i][a];
       v[i][a] += dtfm * (f[i][a] - e[i][a]);
     }
   }

@@ -82,9 +82,10 @@ class FixSPHFluid : public Fix {
   // sub-stepping of the elastic bodies (keyword substeps): r-RESPA with
   // the elastic forces inner and every other force on the elastic atoms
   // (the fluid's through the twins, loads, contact) outer
-  int substeps;                  // requested: N >= 1, or 0 for auto
-  int nsub;                      // in this run (resolved at setup); 1 = no sub-stepping
-  class FixStoreAtom *estore;    // per atom: the elastic force at the last positions
+  int substeps;    // requested: N >= 1, or 0 for auto
+  int nsub;        // in this run (resolved at setup); 1 = no sub-stepping
+  class FixStoreAtom
+      *estore;    // per atom: the elastic force at the last positions, v at the step's start
   std::string estore_id;
   int nmax_work;
   double **xsave;            // the elastic atoms' positions at the step's start
@@ -104,7 +105,7 @@ class FixSPHFluid : public Fix {
   int source_of(int i, const char *when);
   void sync_twins(bool positions);
   void hand_back_forces();
-  void show_accelerations();
+  void show_accelerations(bool mean);
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
   void check_thin_bodies(const std::vector<int> &twin_type);
