@@ -1,8 +1,8 @@
 """Sub-stepping of the elastic bodies inside the fluid's step (fix
-sph/fluid substeps N|auto, issue 35): the body's elastic force is
-integrated in N velocity-Verlet steps of dt/N, every other force on it (the
-fluid's, through the twins) as half kicks at the ends of the fluid's step
-(two-level r-RESPA).  Momentum must still be exchanged exactly, on 1 and 2
+sph/fluid substeps N|auto, issue 35): the body is integrated in N
+velocity-Verlet steps of dt/N with its elastic force recomputed and every
+other force on it (the fluid's, through the twins) held at the step's
+start, corrected at the step's end by dt/2 (G_n+1 - G_n).  Momentum must still be exchanged exactly, on 1 and 2
 ranks; N = 1 must be the run without the keyword; a body that feels no
 fluid must move as it does without sub-steps at dt/N; restarts continue to
 the bit; and timesteps beyond either limit stop with an error that names
@@ -29,8 +29,8 @@ STIFF = PAIR.replace("2 2 sph/icb 1e6 0.3", "2 2 sph/icb 1e9 0.3")
 def test_momentum_conserved_with_substeps(lmp, tmp_path, newton):
     """The blob hits the stiff body, sub-stepped 16 times per fluid step:
     the total momentum stays what it was to round-off (the fluid gets
-    dt/2 (F_n + F_n+1) from the twins, the body the same as its outer
-    kicks; the sub-steps' elastic forces sum to zero).  With newton on the
+    dt/2 (F_n + F_n+1) from the twins, the body dt F_n over the sub-steps
+    and dt/2 (F_n+1 - F_n) at the end; the elastic forces sum to zero).  With newton on the
     sub-steps' ghost forces come back by the fix's own reverse
     communication."""
     lmp.commands_string(blob_script(pair=STIFF, couple=substepped(16))
@@ -78,7 +78,7 @@ def test_body_alone_as_without_substeps(n):
     """With no fluid force the scheme is velocity Verlet at dt/N: 200 fluid
     steps of 1e-4 s with N sub-steps end where 200 N steps of 1e-4/N s
     without the keyword end.  For N = 4 the arithmetic is the same (dt/4 is
-    exact in binary, the outer kicks add 0): identical to the bit.  For
+    exact in binary, the held force and its correction are 0): identical to the bit.  For
     N = 3 the step typed into the input, 3.33333333333333e-05, differs from
     dt/3 in the 15th digit, and the ringing body carries that phase error:
     1e-12 of the motion is the bound (measured below)."""

@@ -79,13 +79,14 @@ class FixSPHFluid : public Fix {
   class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
   double spacing;           // the particle spacing V^(1/d) of the twins' volume V
 
-  // sub-stepping of the elastic bodies (keyword substeps): r-RESPA with
-  // the elastic forces inner and every other force on the elastic atoms
-  // (the fluid's through the twins, loads, contact) outer
+  // sub-stepping of the elastic bodies (keyword substeps): velocity Verlet
+  // at dt/N with the elastic forces recomputed and every other force on
+  // the elastic atoms (the fluid's through the twins, loads, contact) held
+  // over the fluid's step, corrected at its end for exact momentum
   int substeps;    // requested: N >= 1, or 0 for auto
   int nsub;        // in this run (resolved at setup); 1 = no sub-stepping
-  class FixStoreAtom
-      *estore;    // per atom: the elastic force at the last positions, v at the step's start
+  class FixStoreAtom *
+      estore;    // per atom: the elastic force at the last positions, v at the step's start, the held force
   std::string estore_id;
   int nmax_work;
   double **xsave;            // the elastic atoms' positions at the step's start
