@@ -357,14 +357,14 @@ void FixSPHFluid::check_timestep()
     if (nsub == 1)
       error->all(FLERR, Error::NOLASTLINE,
                  "Fix sph/fluid: timestep {:.6g} exceeds the elastic body's stable limit {:.6g} "
-                 "(pair style sph/icb); use 'timestep {:.3g}' or less, or sub-step the body: 'fix "
-                 "{} {} sph/fluid substeps {}' (or 'substeps auto')",
-                 dt, solid_limit, solid_limit, id, group->names[igroup], fits);
+                 "(pair style {}); use 'timestep {:.3g}' or less, or sub-step the body: 'fix {} "
+                 "{} sph/fluid substeps {}' (or 'substeps auto')",
+                 dt, solid_limit, force->pair_style, solid_limit, id, group->names[igroup], fits);
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid: the sub-step timestep/substeps = {:.6g}/{} = {:.6g} exceeds the "
-               "elastic body's stable limit {:.6g} (pair style sph/icb); use 'substeps {}' (or "
+               "elastic body's stable limit {:.6g} (pair style {}); use 'substeps {}' (or "
                "'substeps auto') in fix {}, or 'timestep {:.3g}' or less",
-               dt, nsub, dt / nsub, solid_limit, fits, id, nsub * solid_limit);
+               dt, nsub, dt / nsub, solid_limit, force->pair_style, fits, id, nsub * solid_limit);
   }
   if (nsub > 1 && comm->me == 0 && substeps == 0)
     utils::logmesg(lmp,
