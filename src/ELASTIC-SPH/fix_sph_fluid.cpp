@@ -293,8 +293,8 @@ void FixSPHFluid::check_timestep()
   if (solid_limit > 0.0 && dt > SLACK * solid_limit)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid: timestep {:.6g} exceeds the elastic body's stable limit {:.6g} "
-               "(pair style {}); use 'timestep {:.3g}' or less",
-               dt, solid_limit, force->pair_style, solid_limit);
+               "(pair style sph/icb); use 'timestep {:.3g}' or less",
+               dt, solid_limit, solid_limit);
   double csq_max = 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (!pair || !pair->solid_type(t)) csq_max = std::max(csq_max, fix_rheo->csq[t]);
