@@ -106,7 +106,7 @@ class FixSPHFluid : public Fix {
   int source_of(int i, const char *when);
   void sync_twins(bool positions);
   void hand_back_forces();
-  void show_accelerations(bool mean);
+  void show_accelerations(bool still);
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
   void check_thin_bodies(const std::vector<int> &twin_type);
