@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from conftest import by_id, make_lammps, run_lmp
-from test_fsi import COUPLE, PAIR, RHEO, blob_script, momentum_history, refused
+from test_fsi import (COUPLE, PAIR, RHEO, assert_ranks_agree, blob_script, momentum_history, refused,
+                      run_on_1_and_2_ranks)
 
 
 def substepped(n) -> str:
@@ -108,30 +109,10 @@ def test_two_ranks_agree_with_substeps(tmp_path):
     """On 2 ranks (split through the body) the sub-stepped stiff run
     conserves momentum and ends where 1 rank ends, to round-off: each
     sub-step forwards the positions of the body's ghosts."""
-    ends = {}
-    for nprocs in (1, 2):
-        proc = "processors 2 1 1" if nprocs == 2 else ""
-        dump = "id type x y vx vy modify sort id format float %.17g"
-        script = blob_script(proc, pair=STIFF, couple=substepped(16)) + f"""
-write_dump all custom start{nprocs}.txt {dump}
-fix pt all ave/time 1 1 1 c_p[1] c_p[2] file p{nprocs}.txt format " %.17g"
-run 200
-write_dump all custom end{nprocs}.txt {dump}
-"""
-        rc, out = run_lmp(script, tmp_path, nprocs=nprocs, timeout=120)
-        assert rc == 0, out[-2000:]
-        start = np.loadtxt(tmp_path / f"start{nprocs}.txt", skiprows=9)
-        end = np.loadtxt(tmp_path / f"end{nprocs}.txt", skiprows=9)
-        order = np.lexsort((np.round(start[:, 3], 6), np.round(start[:, 2], 6), start[:, 1]))
-        ends[nprocs] = end[order]
-        p = np.loadtxt(tmp_path / f"p{nprocs}.txt")[:, 1]
-        assert np.abs(p - p[0]).max() / 7.2 < 1e-13
-    one, two = ends[1], ends[2]
-    assert np.array_equal(one[:, 1], two[:, 1])
-    # the same bounds as the run without sub-steps (test_fsi.py): round-off
-    # of the ranks' summation order, far below a missing force
-    assert np.abs(one[:, 2:4] - two[:, 2:4]).max() < 1e-9 * 0.01
-    assert np.abs(one[:, 4:6] - two[:, 4:6]).max() < 1e-9 * 2.0
+    ends = run_on_1_and_2_ranks(
+        tmp_path, lambda proc: blob_script(proc, pair=STIFF, couple=substepped(16)), 200)
+    # the same bounds as the run without sub-steps (test_fsi.py)
+    assert_ranks_agree(ends)
 
 
 def test_restart_with_substeps(tmp_path):
