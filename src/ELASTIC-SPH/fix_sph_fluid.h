@@ -85,8 +85,9 @@ class FixSPHFluid : public Fix {
   // over the fluid's step, corrected at its end for exact momentum
   int substeps;    // requested: N >= 1, or 0 for auto
   int nsub;        // in this run (resolved at setup); 1 = no sub-stepping
-  class FixStoreAtom *
-      estore;    // per atom: the elastic force at the last positions, v at the step's start, the held force
+  // per atom: the elastic force at the last positions, v at the step's
+  // start, the held force
+  class FixStoreAtom *estore;
   std::string estore_id;
   int nmax_work;
   double **xsave;            // the elastic atoms' positions at the step's start
