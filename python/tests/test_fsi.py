@@ -197,30 +197,40 @@ def test_blob_two_ranks_agree(tmp_path):
     assert_ranks_agree(ends)
 
 
+def restart_states(tmp_path, script: str, resume: str, nsteps: int) -> tuple[dict, dict]:
+    """x and v by atom ID after 2 nsteps of the script's run, written to a
+    restart file after the first nsteps, and after reading that file in a
+    new instance, giving it the resume lines (the pair style and the fixes,
+    which a restart does not keep) and running nsteps; with the twins'
+    sources of the continued run"""
+    restart = tmp_path / "fsi.restart"
+    lmp = make_lammps()
+    lmp.commands_string(script + f"""
+        run {nsteps}
+        write_restart {restart}
+        run {nsteps}
+    """)
+    uninterrupted = {name: by_id(lmp, name) for name in ("x", "v")}
+    lmp.close()
+    lmp = make_lammps()
+    lmp.commands_string(f"read_restart {restart}\ncomm_modify vel yes\n" + resume
+                        + f"run {nsteps}\n")
+    continued = {name: by_id(lmp, name) for name in ("x", "v", "i_sph_twin")}
+    lmp.close()
+    return uninterrupted, continued
+
+
 def test_restart_round_trip(tmp_path):
     """A run written to a restart file halfway and continued from it ends
     where the uninterrupted run ends: the twins' source IDs (fix
     property/atom SPH_TWINS, re-made by fix sph/fluid) and RHEO's state
     come back."""
-    restart = tmp_path / "fsi.restart"
-    lmp = make_lammps()
-    lmp.commands_string(blob_script() + f"""
-        run 150
-        write_restart {restart}
-        run 150
-    """)
-    uninterrupted_x, uninterrupted_v = by_id(lmp, "x"), by_id(lmp, "v")
-    lmp.close()
-    lmp = make_lammps()
-    lmp.commands_string(f"read_restart {restart}\ncomm_modify vel yes\n" + PAIR
-                        + RHEO.format(kernel="quintic 0", rho3="1000") + COUPLE + "run 150\n")
-    continued_x, continued_v = by_id(lmp, "x"), by_id(lmp, "v")
-    src = by_id(lmp, "i_sph_twin")
-    lmp.close()
-    assert np.count_nonzero(src) == 32
+    uninterrupted, continued = restart_states(
+        tmp_path, blob_script(), PAIR + RHEO.format(kernel="quintic 0", rho3="1000") + COUPLE, 150)
+    assert np.count_nonzero(continued["i_sph_twin"]) == 32
     # measured: identical to the bit
-    assert np.abs(continued_x - uninterrupted_x).max() == 0.0
-    assert np.abs(continued_v - uninterrupted_v).max() == 0.0
+    for name in ("x", "v"):
+        assert np.array_equal(continued[name], uninterrupted[name]), name
 
 
 # a water column H = W = 10 cm (10 x 10 particles) on a 3-layer elastic plate

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import by_id, make_lammps, run_lmp
 from test_fsi import (COUPLE, PAIR, RHEO, assert_ranks_agree, blob_script, momentum_history, refused,
-                      run_on_1_and_2_ranks)
+                      restart_states, run_on_1_and_2_ranks)
 
 
 def substepped(n) -> str:
@@ -119,23 +119,11 @@ def test_restart_with_substeps(tmp_path):
     """Continued from a restart file, the sub-stepped run ends where the
     uninterrupted one ends, to the bit: the elastic force kept between
     steps is computed again at setup from the same positions."""
-    restart = tmp_path / "fsi.restart"
-    lmp = make_lammps()
-    lmp.commands_string(blob_script(pair=STIFF, couple=substepped("auto")) + f"""
-        run 100
-        write_restart {restart}
-        run 100
-    """)
-    uninterrupted_x, uninterrupted_v = by_id(lmp, "x"), by_id(lmp, "v")
-    lmp.close()
-    lmp = make_lammps()
-    lmp.commands_string(f"read_restart {restart}\ncomm_modify vel yes\n" + STIFF
-                        + RHEO.format(kernel="quintic 0", rho3="1000") + substepped("auto")
-                        + "run 100\n")
-    continued_x, continued_v = by_id(lmp, "x"), by_id(lmp, "v")
-    lmp.close()
-    assert np.array_equal(continued_x, uninterrupted_x)
-    assert np.array_equal(continued_v, uninterrupted_v)
+    uninterrupted, continued = restart_states(
+        tmp_path, blob_script(pair=STIFF, couple=substepped("auto")),
+        STIFF + RHEO.format(kernel="quintic 0", rho3="1000") + substepped("auto"), 100)
+    for name in ("x", "v"):
+        assert np.array_equal(continued[name], uninterrupted[name]), name
 
 
 def test_substep_errors(tmp_path):

@@ -32,6 +32,7 @@
 #include "group.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
+#include "sph_atom_creation.h"
 #include "sph_elastic_mpi.h"
 #include "sph_mirror_surface.h"
 
@@ -145,10 +146,7 @@ void CreateSPHMirrors::command(int narg, char **arg)
                surface.describe());
   check_room_behind(images, surface, sides[0] ? 1.0 : -1.0, depth, arg[0]);
 
-  // as create_atoms: the ghosts are overwritten by the new atoms
-  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
-  atom->nghost = 0;
-  atom->avec->clear_bonus();
+  SPHElastic::begin_creating_atoms(atom);
   const int nlocal_previous = atom->nlocal;
   for (bigint k = 0; k < nimages; k++) {
     const double *record = &images[k * NPACK];
@@ -162,24 +160,12 @@ void CreateSPHMirrors::command(int narg, char **arg)
     atom->rho[i] = record[7];
     atom->mask[i] |= mirrorbit;
   }
-  atom->data_fix_compute_variable(nlocal_previous, atom->nlocal);
-
-  const bigint ncreated_mine = atom->nlocal - nlocal_previous;
-  bigint ncreated = 0;
-  MPI_Allreduce(&ncreated_mine, &ncreated, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  const bigint ncreated = SPHElastic::finish_creating_atoms(atom, nlocal_previous, world);
   if (ncreated != nimages)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_mirrors: {} of the {} images lie outside the simulation box; enlarge "
                "the box (fixed boundaries) or use shrink-wrapped boundaries (s) there",
                nimages - ncreated, nimages);
-  bigint nlocal_big = atom->nlocal;
-  MPI_Allreduce(&nlocal_big, &atom->natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (atom->tag_enable) atom->tag_extend();
-  atom->tag_check();
-  if (atom->map_style != Atom::MAP_NONE) {
-    atom->map_init();
-    atom->map_set();
-  }
   if (comm->me == 0)
     utils::logmesg(lmp, "Created {} mirror atoms of group {} across {} in group {}\n", ncreated,
                    arg[0], surface.describe(), arg[1]);
@@ -276,7 +262,7 @@ void CreateSPHMirrors::check_room_behind(const std::vector<double> &images,
     if (beyond > 0.0 && beyond <= depth && atom->molecule[i] >= lo && atom->molecule[i] <= hi)
       behind++;
   }
-  MPI_Allreduce(&behind, &behind_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  behind_all = SPHElastic::sum_all(behind, world);
   if (behind_all > 0)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_mirrors: {} atoms of the body's molecules already lie behind {}, where "

@@ -26,6 +26,8 @@
 #include "fix_sph_fluid.h"
 #include "group.h"
 #include "modify.h"
+#include "sph_atom_creation.h"
+#include "sph_elastic_mpi.h"
 #include "sph_mirror_surface.h"
 
 #include <algorithm>
@@ -121,10 +123,7 @@ void CreateSPHTwins::command(int narg, char **arg)
   if (depth > 0.0)
     sources = bound > 0.0 ? near_surface(sources, bodybit, depth, bound) : std::vector<int>();
 
-  // as create_atoms: the ghosts are overwritten by the new atoms
-  if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
-  atom->nghost = 0;
-  atom->avec->clear_bonus();
+  SPHElastic::begin_creating_atoms(atom);
   for (int j : sources) {
     double X[3] = {atom->x[j][0], atom->x[j][1], atom->x[j][2]};
     atom->avec->create_atom(type, X);
@@ -140,21 +139,11 @@ void CreateSPHTwins::command(int narg, char **arg)
     atom->rho[i] = rho0;
     atom->rheo_status[i] = RHEO_NS::STATUS_SOLID;
   }
-  atom->data_fix_compute_variable(nlocal_previous, atom->nlocal);
+  // after the per-atom fix values are set for the new atoms, which zeroes
+  // the twins' sources
+  const bigint ncreated = SPHElastic::finish_creating_atoms(atom, nlocal_previous, world);
   for (size_t k = 0; k < sources.size(); k++)
     atom->ivector[itwin][nlocal_previous + k] = atom->tag[sources[k]];
-
-  const bigint ncreated_mine = (bigint) sources.size();
-  bigint ncreated = 0;
-  MPI_Allreduce(&ncreated_mine, &ncreated, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  bigint nlocal_big = atom->nlocal;
-  MPI_Allreduce(&nlocal_big, &atom->natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (atom->tag_enable) atom->tag_extend();
-  atom->tag_check();
-  if (atom->map_style != Atom::MAP_NONE) {
-    atom->map_init();
-    atom->map_set();
-  }
   if (comm->me == 0)
     utils::logmesg(lmp, "Created {} twins of type {} on the atoms of group {}{}\n", ncreated, type,
                    arg[0], depth > 0.0 ? fmt::format(" within {} of its surface", depth) : "");
@@ -182,7 +171,7 @@ double CreateSPHTwins::spacing_bound(int bodybit, double depth) const
     }
   }
   bigint n = (bigint) mine.size() / 3, nbody = 0;
-  MPI_Allreduce(&n, &nbody, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  nbody = SPHElastic::sum_all(n, world);
   if (nbody < 2) return 0.0;
 
   // the nearest pair of this rank's atoms: no farther than the diagonal
@@ -295,7 +284,7 @@ void CreateSPHTwins::acquire_ghosts(int bodybit, double depth, double bound)
   comm->cutghostuser = cutghostuser;
 
   bigint nlocal = atom->nlocal, natoms = 0;
-  MPI_Allreduce(&nlocal, &natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  natoms = SPHElastic::sum_all(nlocal, world);
   if (natoms != atom->natoms)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_twins depth: {} atoms were lost while moving the atoms to the ranks "

@@ -566,7 +566,7 @@ void FixSPHFluid::check_setup()
   }
   MPI_Allreduce(bad, bad_all, 5, MPI_INT, MPI_MAX, world);
   MPI_Allreduce(example, example_all, 5, MPI_LMP_TAGINT, MPI_MAX, world);
-  MPI_Allreduce(&ntwins_mine, &ntwins, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  ntwins = SPHElastic::sum_all(ntwins_mine, world);
 
   // no twin at all: none were created, or their source IDs were not read
   // back (read_data without the SPH_TWINS section, write_data nofix), and
@@ -575,7 +575,7 @@ void FixSPHFluid::check_setup()
     bigint nelastic_mine = 0, nelastic = 0;
     for (int i = 0; i < nlocal; i++)
       if ((mask[i] & groupbit) && pair->solid_type(type[i])) nelastic_mine++;
-    MPI_Allreduce(&nelastic_mine, &nelastic, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    nelastic = SPHElastic::sum_all(nelastic_mine, world);
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: there are no twins (i_sph_twin is 0 everywhere), and the fluid "
                "would not see the {} elastic atoms: create them with "
@@ -722,7 +722,7 @@ void FixSPHFluid::check_fixes()
         mine++;
         first = std::max(first, atom->tag[i]);
       }
-    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    all = SPHElastic::sum_all(mine, world);
     MPI_Allreduce(&first, &example, 1, MPI_LMP_TAGINT, MPI_MAX, world);
     return all;
   };
@@ -1041,7 +1041,7 @@ void FixSPHFluid::check_thin_bodies(const std::vector<int> &twin_type)
     if (sees) nsee++;
   }
   MPI_Allreduce(nearest, nearest_all, 2, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(&nsee, &nsee_all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  nsee_all = SPHElastic::sum_all(nsee, world);
 
   if (nearest_all[1] > 0.0) {
     const double mean = nearest_all[0] / nearest_all[1];

@@ -25,6 +25,7 @@
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
+#include "sph_elastic_mpi.h"
 #include "update.h"
 
 #include <algorithm>
@@ -386,7 +387,7 @@ void PairSPHElastic::check_twins_coupled()
   bigint mine = 0, all = 0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->ivector[index][i]) mine++;
-  MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  all = SPHElastic::sum_all(mine, world);
   if (all > 0)
     error->all(FLERR, Error::NOLASTLINE,
                "There are {} twins of create_sph_twins but no fix sph/fluid: fix rheo would "

@@ -16,12 +16,22 @@
 #ifndef LMP_SPH_ELASTIC_MPI_H
 #define LMP_SPH_ELASTIC_MPI_H
 
+#include "lmptype.h"
+
 #include <mpi.h>
 
 #include <vector>
 
 namespace LAMMPS_NS {
 namespace SPHElastic {
+
+  // the sum over all ranks of a count
+  inline bigint sum_all(bigint mine, MPI_Comm world)
+  {
+    bigint all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    return all;
+  }
 
   // the largest of the ranks' values and the lowest rank that holds it (the
   // rank that then broadcasts what goes with it, an atom ID say)
