@@ -39,11 +39,16 @@ class WeakCase:
 CASES = {
     "beam-dyn": WeakCase("beam", "dyn", {"dx": 0.001, "L": 0.2, "route": "nve", "nsteps": 200,
                                          "Fy": -10}),
+    # the defaults: solver auto, the direct solve on one rank and PETSc's
+    # distributed one on more
     "beam-newton": WeakCase("beam", "newton", {"dx": 0.001, "L": 0.2, "route": "min",
                                                "Fy": -10}),
-    # the same with PETSc's distributed solver, which gathers nothing on rank 0
+    # PETSc's distributed solver on every rank count, and the direct solve,
+    # which gathers the whole system on rank 0
     "beam-newton-petsc": WeakCase("beam", "newton", {"dx": 0.001, "L": 0.2, "route": "min",
                                                      "Fy": -10, "linear": "petsc"}),
+    "beam-newton-direct": WeakCase("beam", "newton", {"dx": 0.001, "L": 0.2, "route": "min",
+                                                      "Fy": -10, "linear": "direct"}),
     "beam3d-dyn": WeakCase("beam3d", "dyn", {"dx": 0.002, "L": 0.1, "route": "nve",
                                              "nsteps": 200, "Fy": -100}),
     "beam3d-newton": WeakCase("beam3d", "newton", {"dx": 0.002, "L": 0.1, "route": "min",

@@ -164,6 +164,7 @@ run 0
 if "${np} == 2" then "balance 1.0 x $((0.0-xlo)/lx)"
 if "${np} == 4" then "balance 1.0 x $((-0.001-xlo)/lx) $((0.0-xlo)/lx) $((0.0057-xlo)/lx)"
 min_style sph/newton
+min_modify solver direct
 minimize 0.0 1.0e-10 100 1000
 print "RESULT tipx $(c_tipx:%.17g)"
 print "RESULT tipy $(c_tipy:%.17g)"
@@ -180,8 +181,10 @@ def test_newton_with_rows_on_other_ranks_agrees_with_serial(tmp_path, stress):
     ranks) and at -1, 0 and 5.7 mm (4 ranks) put mirror atoms and their
     sources on different ranks, and the stretch carries the atoms at
     x = 5.5 mm over the last boundary during the solve, where they keep
-    the rows their first rank numbered.  The Newton iterates are those of
-    one rank: the same number of steps, the tip to round-off."""
+    the rows their first rank numbered.  With the direct solve on every
+    rank count (solver auto takes PETSc on more than one rank in 2d) the
+    Newton iterates are those of one rank: the same number of steps, the
+    tip to round-off."""
     script = tmp_path / "in.migrating"
     script.write_text(MIGRATING_NEWTON)
     runs = [run_mpi(script, {"np": n, "stress": stress}, n) for n in (1, 2, 4)]
@@ -255,9 +258,10 @@ def test_distributed_solver_matches_in_3d_with_hourglass_control():
 
 def test_solver_auto_takes_petsc_in_3d_and_direct_in_2d(tmp_path):
     """The default min_modify solver auto: PETSc's matrix-free CG for a 3d
-    body, the rank-0 factorisation for a 2d one or when min_modify factor
-    asks for it; each says so in the log, and the 3d equilibrium is the
-    factorisation's."""
+    body, the rank-0 factorisation for a 2d one on one rank or when
+    min_modify factor asks for it, PETSc again for a 2d body on more ranks
+    (the factorisation would gather the whole system on rank 0); each says
+    so in the log, and the equilibria are the factorisation's."""
     small3d = {"L": 0.04, "H": 0.01, "W": 0.01, "dx": 0.0025, "Fy": -100.0, "ftol": 1e-10,
                "solver": "newton"}
     logs = {name: tmp_path / f"{name}.log" for name in ("3d", "2d")}
@@ -268,8 +272,12 @@ def test_solver_auto_takes_petsc_in_3d_and_direct_in_2d(tmp_path):
     text = logs["3d"].read_text()
     assert "solver auto: petsc (a 3d body)" in text
     assert "solver auto: direct (min_modify factor asks for a factorisation)" in text
-    run_script(BEAM, {**COARSE, "solver": "newton"}, read=["tip_dv"], log=logs["2d"])
-    assert "solver auto: direct (a 2d body)" in logs["2d"].read_text()
+    serial = run_script(BEAM, {**COARSE, "solver": "newton", "ftol": 1e-10}, read=["tip_dv"],
+                        log=logs["2d"])
+    assert "solver auto: direct (a 2d body on one rank)" in logs["2d"].read_text()
+    parallel = run_mpi(BEAM, {**COARSE, "solver": "newton", "ftol": 1e-10}, 2)
+    assert "solver auto: petsc (a 2d body on more than one rank" in parallel.log
+    assert parallel.variables["tip_dv"] == pytest.approx(serial.variables["tip_dv"], rel=1e-9)
 
 
 KRYLOV = re.compile(r"sph/newton: \d+ solves, (\d+) Krylov iterations in all")
@@ -359,15 +367,20 @@ def test_compressed_truss_straight_branch_and_saddle_warning(tmp_path, load, sad
 
 
 @pytest.mark.parametrize("load,saddle", [(-1000.0, False), (-7000.0, True)])
-def test_hourglass_saddle_test_agrees_on_ranks(load, saddle):
-    """The Lanczos saddle test runs on every rank with the same start: on 2
-    and 3 ranks it reaches the serial verdict, and the bar stays straight."""
+@pytest.mark.parametrize("linear", ["direct", "auto"])
+def test_hourglass_saddle_test_agrees_on_ranks(load, saddle, linear):
+    """The Lanczos saddle test of the direct solve runs on every rank with
+    the same start: on 2 and 3 ranks it reaches the serial verdict, and the
+    bar stays straight.  So does solver auto, which takes PETSc on more
+    than one rank (its CG meets the negative curvature itself)."""
     variables = {"Fx": load, "dx": 0.005, "grad": "quadratic", "clamp": "mirror",
-                 "solver": "newton", "hg": 0.2}
+                 "solver": "newton", "hg": 0.2, "linear": linear}
     for nprocs in (2, 3):
         out = run_mpi(TRUSS, variables, nprocs)
         assert ("equilibrium is unstable (a saddle point" in out.log) == saddle, nprocs
-        assert "Lanczos iterations" in out.log
+        assert ("Lanczos iterations" in out.log) == (linear == "direct")
+        assert ("solver auto: petsc (a 2d body on more than one rank" in out.log) == (
+            linear == "auto")
         assert abs(out.variables["tip_dv"]) < 1e-12
         assert out.variables["tip_dh"] == pytest.approx(problems.truss_exact(load, 0.005, "pk1"),
                                                         rel=0.01)

@@ -20,6 +20,7 @@
 #include "sph_linear_solver_petsc.h"
 
 #include <cstring>
+#include <string>
 
 using namespace LAMMPS_NS;
 using namespace SPHElastic;
@@ -48,23 +49,29 @@ std::unique_ptr<LinearSolver> LinearSolverChoice::make() const
    entries per row, so factorising it on rank 0 takes several times the
    time and memory of PETSc's matrix-free CG (doc/Results.rst, 3D
    solvers) and runs out of memory at 80 k atoms; 2d Hessians are sparse
-   enough for the direct solve to win.  A factorisation asked for by
+   enough for the direct solve to win on one rank.  On more ranks the
+   direct solve gathers the whole system on rank 0, whose memory then
+   grows with the system rather than with its atoms, and the other ranks
+   wait: PETSc's distributed solve instead.  A factorisation asked for by
    min_modify factor gets it.
 ------------------------------------------------------------------------- */
 
 int LinearSolverChoice::automatic_backend() const
 {
-  const char *reason = nullptr;
+  std::string reason;
   int method = DIRECT;
-  if (domain->dimension == 2)
-    reason = "a 2d body";
-  else if (factor != AUTO)
+  if (factor != AUTO)
     reason = "min_modify factor asks for a factorisation";
+  else if (domain->dimension == 2 && comm->nprocs == 1)
+    reason = "a 2d body on one rank";
   else if (!PetscLinearSolver::available())
-    reason = "a 3d body, but this LAMMPS was built without PETSc";
+    reason = fmt::format("a {}d body on {} rank(s), but this LAMMPS was built without PETSc",
+                         domain->dimension, comm->nprocs);
   else {
     method = PETSC;
-    reason = "a 3d body";
+    reason = domain->dimension == 3 ? "a 3d body"
+                                    : "a 2d body on more than one rank: the direct solve would "
+                                      "gather the whole system on rank 0";
   }
   if (comm->me == 0)
     utils::logmesg(lmp, "  min_style sph/newton: solver auto: {} ({})\n",
