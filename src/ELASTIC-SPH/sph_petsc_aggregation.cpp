@@ -29,8 +29,11 @@ using namespace SPHElastic;
 
 namespace {
 constexpr double DEPENDENT = 1.0e-8;    // of the largest eigenvalue of an aggregate's Gram matrix
-constexpr int POWER_STEPS = 20;         // power iterations for rho(D^-1 A)
-constexpr double RHO_MARGIN = 1.1;      // power iteration approaches rho from below
+// the smallest eigenvalue of the Gram matrix scaled to unit diagonal that
+// lets an aggregate keep its raw modes (1 for orthogonal modes)
+constexpr double WELL_CONDITIONED = 0.1;
+constexpr int POWER_STEPS = 20;       // power iterations for rho(D^-1 A)
+constexpr double RHO_MARGIN = 1.1;    // power iteration approaches rho from below
 
 /* ----------------------------------------------------------------------
    the aggregates of all ranks, sorted, and the contiguous range of them
@@ -88,12 +91,23 @@ PetscErrorCode raw_interpolation(Mat A, const AggregationRows &given, const Aggr
   const PetscInt owned = (list.last - list.first) * nmode;
   const PetscInt total = static_cast<PetscInt>(list.keys.size()) * nmode;
   PetscCall(MatCreateAIJ(comm, nlocal, owned, nglobal, total, nmode, nullptr, nmode, nullptr, raw));
-  std::vector<PetscInt> cols(nmode);
+  // only the modes that move this coordinate: a component's own
+  // translation-like modes and the rotations about the other axes, about
+  // 10 of the 27 in 3d, which keeps P, and so P^T A P, sparse
+  std::vector<PetscInt> cols;
+  std::vector<PetscScalar> values;
   for (size_t k = 0; k < given.rows.size(); k++) {
     const PetscInt g = list.index(given.keys[k]);
-    for (PetscInt m = 0; m < nmode; m++) cols[m] = g * nmode + m;
-    PetscCall(MatSetValues(*raw, 1, &given.rows[k], nmode, cols.data(), &given.modes[k * nmode],
-                           INSERT_VALUES));
+    cols.clear();
+    values.clear();
+    for (PetscInt m = 0; m < nmode; m++) {
+      const double value = given.modes[k * nmode + m];
+      if (value == 0.0) continue;
+      cols.push_back(g * nmode + m);
+      values.push_back(value);
+    }
+    PetscCall(MatSetValues(*raw, 1, &given.rows[k], static_cast<PetscInt>(cols.size()), cols.data(),
+                           values.data(), INSERT_VALUES));
   }
   PetscCall(MatAssemblyBegin(*raw, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(*raw, MAT_FINAL_ASSEMBLY));
@@ -102,9 +116,16 @@ PetscErrorCode raw_interpolation(Mat A, const AggregationRows &given, const Aggr
 
 /* ----------------------------------------------------------------------
    T (raw coarse x coarse, block diagonal over the owned aggregates) such
-   that raw T has orthonormal columns on each aggregate: from the Gram
-   matrix raw^T raw = V L V^T of an aggregate, T = V_k L_k^-1/2 over the
-   eigenvalues above DEPENDENT of the largest
+   that the columns of raw T are a well-conditioned basis of the modes of
+   each aggregate.  The two-level preconditioner depends only on the span
+   of P (P (P^T A P)^-1 P^T is the same for P R, R invertible), so an
+   aggregate whose modes are nearly orthogonal already (a full box: the
+   Gram matrix scaled to unit diagonal has no eigenvalue below
+   WELL_CONDITIONED) only scales its modes to unit length, and keeps raw's
+   sparsity; one whose modes are (nearly) dependent (a box cut by the
+   body's surface) gets an orthonormal basis from its Gram matrix
+   raw^T raw = V L V^T, T = V_k L_k^-1/2 over the eigenvalues above
+   DEPENDENT of the largest, whose columns are dense over the modes
 ------------------------------------------------------------------------- */
 
 PetscErrorCode orthonormalising_map(Mat raw, PetscInt nmode, const AggregateList &list, Mat *T)
@@ -133,6 +154,16 @@ PetscErrorCode orthonormalising_map(Mat raw, PetscInt nmode, const AggregateList
       }
       PetscCall(MatRestoreRow(gram, row, &ncols, &cols, &values));
     }
+    const Eigen::VectorXd scale = G.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseInverse();
+    if (G.diagonal().minCoeff() > 0.0) {
+      const Eigen::MatrixXd scaled = scale.asDiagonal() * G * scale.asDiagonal();
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> unit(scaled, Eigen::EigenvaluesOnly);
+      if (unit.eigenvalues()(0) >= WELL_CONDITIONED) {
+        maps[a] = scale.asDiagonal();
+        ncoarse += nmode;
+        continue;
+      }
+    }
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(G);
     const Eigen::VectorXd &lambda = eigen.eigenvalues();
     const double largest = lambda(nmode - 1);
@@ -155,6 +186,7 @@ PetscErrorCode orthonormalising_map(Mat raw, PetscInt nmode, const AggregateList
   for (PetscInt a = 0; a < nowned; a++)
     for (Eigen::Index c = 0; c < maps[a].cols(); c++, col++)
       for (PetscInt m = 0; m < nmode; m++) {
+        if (maps[a](m, c) == 0.0) continue;
         const PetscInt row = row0 + a * nmode + m;
         PetscCall(MatSetValue(*T, row, col, maps[a](m, c), INSERT_VALUES));
       }
