@@ -126,9 +126,10 @@ namespace SPHElastic {
     Cell cell_of(const double *X) const;
   };
 
-  // the smallest distance between two of the packed points, or 'reach' if
-  // none is nearer than that; the same on every rank given the same records
-  double nearest_distance(const std::vector<double> &records, int stride, int offset, double reach);
+  // the smallest distance between two of the points of all ranks (each
+  // rank gives its own as x, y, z triples), or 'reach' if none is nearer
+  // than that; collective, the same on every rank
+  double nearest_distance(LAMMPS *lmp, const std::vector<double> &points, double reach);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 
