@@ -33,7 +33,6 @@
 #include "irregular.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
-#include "sph_elastic_mpi.h"
 #include "sph_mirror_surface.h"
 
 #include <algorithm>

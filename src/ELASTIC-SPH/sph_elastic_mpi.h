@@ -38,21 +38,6 @@ namespace SPHElastic {
     return out;
   }
 
-  // all ranks' records, concatenated in rank order, on every rank
-  inline std::vector<double> gather_all(const std::vector<double> &mine, MPI_Comm world)
-  {
-    int nprocs = 1;
-    MPI_Comm_size(world, &nprocs);
-    int nmine = (int) mine.size();
-    std::vector<int> counts(nprocs), displs(nprocs, 0);
-    MPI_Allgather(&nmine, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-    for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
-    std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
-    MPI_Allgatherv(mine.data(), nmine, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-                   MPI_DOUBLE, world);
-    return all;
-  }
-
   // a fix's per-rank sums of its last force computation (a load potential
   // and the applied force, say), summed over the ranks on the first request
   // after that computation only
