@@ -456,13 +456,14 @@ CYLINDER_CASE = (0.4, "strain")
 
 
 def cylinder_clamp_errors(dx: float, nu: float = CYLINDER_CASE[0], plane: str = CYLINDER_CASE[1],
-                          gy: float = TABLE8_GY, nprocs: int = 1) -> dict:
+                          gy: float = TABLE8_GY, nprocs: int = 1, **overrides) -> dict:
     """examples/beam_cylinder under its weight: the relative error of the
     end-face centre's deflection (compute sph/probe) against the FE
-    continuum of the beam clamped to the cylinder."""
+    continuum of the beam clamped to the cylinder; overrides: more of the
+    example's variables (ftol, linear, ...)."""
     from . import fe
     from .runner import run_mpi, run_script
-    variables = {"dx": dx, "nu": nu, "plane": plane, "gy": gy, "R": CYLINDER_RADIUS}
+    variables = {"dx": dx, "nu": nu, "plane": plane, "gy": gy, "R": CYLINDER_RADIUS, **overrides}
     out = (run_script(BEAM_CYLINDER, variables, read=["end_dv"]) if nprocs == 1
            else run_mpi(BEAM_CYLINDER, variables, nprocs))
     end = fe.cylinder_tip(-gy, None, nu, plane, point="end")

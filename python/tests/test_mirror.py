@@ -395,3 +395,37 @@ create_sph_mirrors body m sphere {centre[0]} {centre[1]} {centre[2]} {radius} de
                       f"fix hold m sph/mirror sphere {centre[0]} {centre[1]} {centre[2]} "
                       f"{radius}\nrun 0\n", tmp_path)
     assert rc != 0 and "from its source across the sphere about" in out
+
+
+@pytest.mark.slow
+def test_created_images_are_the_same_on_1_and_2_ranks(tmp_path):
+    """create_sph_mirrors makes each rank's images and moves them to the
+    ranks that hold their positions (no rank gathers all images), and the
+    default depth (3 spacings) comes from a rendezvous of the atoms near
+    the surface.  A body above y = 0 split from its images by the ranks'
+    boundary (processors 1 2 1): the same 3 layers of images, with the same
+    masses, on 1 and 2 ranks."""
+    from esph.runner import run_mpi
+    script = tmp_path / "in.images"
+    script.write_text(sph_header("-1 21 -10 10", 0.002, extra="processors 1 * 1\n") + """
+region domain block 0 20 0 10 -0.5 0.5 units lattice
+create_atoms 1 region domain
+set group all mol 1
+group body union all all
+set group all volume 4e-9
+set group all mass 4e-6
+pair_style sph/icb 0.0024 plane strain
+pair_coeff * * 20e9 0.3 svk
+create_sph_mirrors body clamp plane 0 0.0 0 0 1 0
+write_dump clamp custom images.${nprocs} x y mass mol proc modify format float %.17g
+variable nclamp equal count(clamp)
+print "RESULT nclamp ${nclamp}"
+""")
+    images = {}
+    for n in (1, 2):
+        assert run_mpi(script, {"nprocs": n}, n).variables["nclamp"] == 60    # 3 layers
+        rows = np.loadtxt(tmp_path / f"images.{n}", skiprows=9)
+        images[n] = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
+    assert images[1][:, 1].min() == pytest.approx(-0.005) and images[1][:, 1].max() < 0
+    np.testing.assert_array_equal(images[2][:, :4], images[1][:, :4])
+    assert (images[2][:, 4] == 0).all()    # made on rank 1, moved to rank 0 (y < 0)

@@ -395,3 +395,52 @@ def test_a_periodic_length_below_two_kernel_supports_is_an_error(nz):
         f = np.array(lmp.numpy.extract_atom("f")[:lmp.get_natoms()])
         assert np.abs(f).max() < 1e-6 * 1e9 * DX * DX
     lmp.close()
+
+
+@pytest.mark.slow
+def test_quarter_ring_volumes_are_the_same_on_1_and_2_ranks(tmp_path):
+    """The arcs' angles meet on one rank per circle (a rendezvous), not on
+    every rank: the quarter ring of the test above, whose arcs the ranks'
+    boundary x = 0 cuts, gets the same volumes (masses at density 7) on 1
+    and 2 ranks, and an arc that is not even is the same error on both."""
+    from esph.runner import RunError, run_mpi
+    atoms = []
+    for k in range(8):
+        r = 0.02 + (k + 0.5) * DX
+        n = round(2 * math.pi * r / DX)
+        for m in range(n):
+            th = 2 * math.pi * (m + 0.3) / n
+            if r * math.cos(th) > -3.5 * DX and r * math.sin(th) > -3.5 * DX:
+                atoms.append((r * math.cos(th), r * math.sin(th)))
+    head = """units si
+dimension 2
+boundary f f p
+atom_style sph/elastic
+atom_modify map array
+region box block -0.1 0.1 -0.1 0.1 -0.001 0.001 units box
+create_box 1 box
+"""
+    singles = "".join(f"create_atoms 1 single {x!r} {y!r} 0.0 units box\n" for x, y in atoms)
+    tail = f"""set group all mol 1
+set group all volume 1.0
+set group all mass 1.0
+set_sph_volumes all polar {DX} 0.0 0.0 thickness {T} density 7
+write_dump all custom masses.${{nprocs}} x y mass modify format float %.17g
+print "RESULT done 1"
+"""
+    script = tmp_path / "in.quarter"
+    script.write_text(head + singles + tail)
+    masses = {}
+    for n in (1, 2):
+        run_mpi(script, {"nprocs": n}, n)
+        rows = np.loadtxt(tmp_path / f"masses.{n}", skiprows=9)
+        masses[n] = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
+    assert len(masses[1]) == len(atoms)
+    np.testing.assert_array_equal(masses[2], masses[1])
+    # one atom moved along its circle: no longer an even arc
+    r, th = math.hypot(*atoms[0]), math.atan2(atoms[0][1], atoms[0][0]) + 0.01
+    moved = f"create_atoms 1 single {r * math.cos(th)!r} {r * math.sin(th)!r} 0.0 units box\n"
+    script.write_text(head + moved + "".join(singles.splitlines(True)[1:]) + tail)
+    for n in (1, 2):
+        with pytest.raises(RunError, match="atoms on the circle of radius .* are neither"):
+            run_mpi(script, {"nprocs": n}, n)

@@ -30,6 +30,7 @@
 #include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
+#include "irregular.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "sph_atom_creation.h"
@@ -138,19 +139,29 @@ void CreateSPHMirrors::command(int narg, char **arg)
                "Create_sph_mirrors: group {} has atoms on both sides of {} within the depth {}; "
                "the body must lie on one side of the surface",
                arg[0], surface.describe(), depth);
-  const auto images = SPHElastic::gather_all(mine, world);
-  const bigint nimages = (bigint) images.size() / NPACK;
+  bigint nimages_mine = (bigint) mine.size() / NPACK, nimages = 0;
+  MPI_Allreduce(&nimages_mine, &nimages, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   if (nimages == 0)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_mirrors: no atom of group {} lies within {} of {}", arg[0], depth,
                surface.describe());
-  check_room_behind(images, surface, sides[0] ? 1.0 : -1.0, depth, arg[0]);
+  check_room_behind(mine, surface, sides[0] ? 1.0 : -1.0, depth, arg[0]);
+  bigint outside_mine = 0, outside = 0;
+  for (size_t k = 0; k < mine.size(); k += NPACK) outside_mine += in_box(&mine[k]) ? 0 : 1;
+  MPI_Allreduce(&outside_mine, &outside, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  if (outside > 0)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Create_sph_mirrors: {} of the {} images lie outside the simulation box; enlarge "
+               "the box (fixed boundaries) or use shrink-wrapped boundaries (s) there",
+               outside, nimages);
 
+  // each rank creates the images of its own atoms, which then move to the
+  // ranks whose sub-domains hold them (Irregular, as after change_box); no
+  // rank holds the images of the others' atoms
   SPHElastic::begin_creating_atoms(atom);
   const int nlocal_previous = atom->nlocal;
-  for (bigint k = 0; k < nimages; k++) {
-    const double *record = &images[k * NPACK];
-    if (!owner_rank_has(record)) continue;
+  for (size_t k = 0; k < mine.size(); k += NPACK) {
+    const double *record = &mine[k];
     double X[3] = {record[0], record[1], record[2]};
     atom->avec->create_atom((int) record[3], X);
     const int i = atom->nlocal - 1;
@@ -160,14 +171,26 @@ void CreateSPHMirrors::command(int narg, char **arg)
     atom->rho[i] = record[7];
     atom->mask[i] |= mirrorbit;
   }
-  const bigint ncreated = SPHElastic::finish_creating_atoms(atom, nlocal_previous, world);
-  if (ncreated != nimages)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Create_sph_mirrors: {} of the {} images lie outside the simulation box; enlarge "
-               "the box (fixed boundaries) or use shrink-wrapped boundaries (s) there",
-               nimages - ncreated, nimages);
+  atom->data_fix_compute_variable(nlocal_previous, atom->nlocal);
+  atom->natoms = SPHElastic::sum_all(atom->nlocal, world);
+  // IDs (in the order of the ranks that made the images) before the move,
+  // and a map of their size for the one migrate_atoms sets
+  if (atom->tag_enable) atom->tag_extend();
+  if (atom->map_style != Atom::MAP_NONE) atom->map_init();
+  std::vector<int> destination(atom->nlocal, comm->me);
+  int igx, igy, igz;
+  for (int i = nlocal_previous; i < atom->nlocal; i++)
+    destination[i] = comm->coord2proc(atom->x[i], igx, igy, igz);
+  auto *irregular = new Irregular(lmp);
+  irregular->migrate_atoms(1, 1, destination.data());
+  delete irregular;
+  atom->tag_check();
+  if (atom->map_style != Atom::MAP_NONE) {
+    atom->map_init();
+    atom->map_set();
+  }
   if (comm->me == 0)
-    utils::logmesg(lmp, "Created {} mirror atoms of group {} across {} in group {}\n", ncreated,
+    utils::logmesg(lmp, "Created {} mirror atoms of group {} across {} in group {}\n", nimages,
                    arg[0], surface.describe(), arg[1]);
 }
 
@@ -191,8 +214,7 @@ double CreateSPHMirrors::default_depth(const SPHElastic::MirrorSurface &surface,
   for (int i = 0; i < atom->nlocal; i++)
     if ((atom->mask[i] & bodybit) && std::fabs(surface.signed_distance(atom->x0[i])) <= support)
       near_mine.insert(near_mine.end(), {atom->x0[i][0], atom->x0[i][1], atom->x0[i][2]});
-  const double spacing =
-      SPHElastic::nearest_distance(SPHElastic::gather_all(near_mine, world), 3, 0, support);
+  const double spacing = SPHElastic::nearest_distance_all(lmp, near_mine, support);
   return std::max(support, 3.0 * spacing);
 }
 
@@ -217,27 +239,20 @@ void CreateSPHMirrors::warn_if_volumes_set(int bodybit, const char *body) const
 }
 
 /* ----------------------------------------------------------------------
-   whether this rank's sub-domain holds X (lo <= X < hi); beyond a
-   shrink-wrapped boundary the rank at that edge takes it (the box grows
-   to it at the next run), beyond a fixed one nobody
+   whether X lies in the box, or beyond a shrink-wrapped boundary (the box
+   grows to it at the next run; the rank at that edge takes it), not
+   beyond a fixed or periodic one
 ------------------------------------------------------------------------- */
 
-int CreateSPHMirrors::owner_rank_has(const double *X) const
+bool CreateSPHMirrors::in_box(const double *X) const
 {
   for (int a = 0; a < domain->dimension; a++) {
     const bool shrink_lo = !domain->periodicity[a] && domain->boundary[a][0] >= 2;
     const bool shrink_hi = !domain->periodicity[a] && domain->boundary[a][1] >= 2;
-    const bool at_lo = domain->sublo[a] == domain->boxlo[a];
-    const bool at_hi = domain->subhi[a] == domain->boxhi[a];
-    if (X[a] < domain->boxlo[a]) {
-      if (!(shrink_lo && at_lo)) return 0;
-    } else if (X[a] >= domain->boxhi[a]) {
-      if (!(shrink_hi && at_hi)) return 0;
-    } else if (X[a] < domain->sublo[a] || X[a] >= domain->subhi[a]) {
-      return 0;
-    }
+    if (X[a] < domain->boxlo[a] && !shrink_lo) return false;
+    if (X[a] >= domain->boxhi[a] && !shrink_hi) return false;
   }
-  return 1;
+  return true;
 }
 
 /* ----------------------------------------------------------------------
@@ -250,11 +265,13 @@ void CreateSPHMirrors::check_room_behind(const std::vector<double> &images,
                                          const SPHElastic::MirrorSurface &surface, double side,
                                          double depth, const char *body) const
 {
-  tagint lo = MAXTAGINT, hi = -MAXTAGINT;
+  tagint lo_mine = MAXTAGINT, hi_mine = -MAXTAGINT, lo, hi;
   for (size_t k = 0; k < images.size(); k += NPACK) {
-    lo = std::min(lo, (tagint) images[k + 4]);
-    hi = std::max(hi, (tagint) images[k + 4]);
+    lo_mine = std::min(lo_mine, (tagint) images[k + 4]);
+    hi_mine = std::max(hi_mine, (tagint) images[k + 4]);
   }
+  MPI_Allreduce(&lo_mine, &lo, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  MPI_Allreduce(&hi_mine, &hi, 1, MPI_LMP_TAGINT, MPI_MAX, world);
   double **x0 = atom->x0;
   bigint behind = 0, behind_all = 0;
   for (int i = 0; i < atom->nlocal; i++) {

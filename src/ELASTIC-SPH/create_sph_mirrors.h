@@ -41,9 +41,10 @@ class CreateSPHMirrors : public Command {
   void command(int, char **) override;
 
  private:
-  int owner_rank_has(const double *X) const;
+  bool in_box(const double *X) const;
   double default_depth(const SPHElastic::MirrorSurface &surface, int bodybit) const;
   void warn_if_volumes_set(int bodybit, const char *body) const;
+  // the images are this rank's
   void check_room_behind(const std::vector<double> &images,
                          const SPHElastic::MirrorSurface &surface, double side, double depth,
                          const char *body) const;

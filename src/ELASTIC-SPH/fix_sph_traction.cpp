@@ -38,6 +38,7 @@
 #include "fix_sph_partners.h"
 #include "force.h"
 #include "group.h"
+#include "memory.h"
 #include "modify.h"
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
@@ -92,7 +93,7 @@ const FixSPHMirror *mirror_owner(const std::vector<FixSPHMirror *> &mirrors, int
 ------------------------------------------------------------------------- */
 
 FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), pair(nullptr)
+    Fix(lmp, narg, arg), coefficient(nullptr), pair(nullptr)
 {
   mirror_bits = 0;
   if (narg < 6) utils::missing_cmd_args(FLERR, "fix sph/traction", error);
@@ -160,6 +161,17 @@ FixSPHTraction::FixSPHTraction(LAMMPS *lmp, int narg, char **arg) :
   energy_global_flag = 1;
   dynamic_group_allow = 0;
   respa_level_support = 0;
+  comm_reverse = 3;
+  FixSPHTraction::grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHTraction::~FixSPHTraction()
+{
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(coefficient);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -204,11 +216,10 @@ void FixSPHTraction::setup(int vflag)
 {
   find_side();
   build_coefficients();
-  const tagint *tag = atom->tag;
   SPHElastic::require_holds_after(
       lmp, this,
       [&](int i) {
-        return coefficient.count(tag[i]) > 0;
+        return coefficient[i][0] != 0.0 || coefficient[i][1] != 0.0 || coefficient[i][2] != 0.0;
       },
       "loads");
   post_force(vflag);
@@ -487,8 +498,9 @@ void FixSPHTraction::consistent_area(int i, const int *jl, double *b) const
    reaches its source as S P b_m and the source's coefficient takes
    S (-w N . b_m) or S b_m as well, whether or not the mirror atom is in
    the group (a group of the body alone still gets its mirrors' shares).
-   Kept where not zero to round-off and shared by all ranks (a face is a
-   small part of the body), so they follow the atoms through migration.
+   Each share goes to its atom, owned or ghost, and the ghosts' shares to
+   their owners (reverse communication); kept where not zero to round-off,
+   as per-atom data that moves with the atom.
    Warns if body atoms outside the group would take a share, and stops if
    they lie behind a group of the layers near the face.
 ------------------------------------------------------------------------- */
@@ -504,7 +516,9 @@ void FixSPHTraction::build_coefficients()
     mirrors.push_back(dynamic_cast<FixSPHMirror *>(fix));
 
   double other_surface = INFINITY;    // nearest atom of another surface, from the plane
-  std::vector<double> mine;           // (atom ID that takes the load, c[3]) records
+  const int nall = atom->nlocal + atom->nghost;
+  for (int i = 0; i < nall; i++)
+    for (int a = 0; a < 3; a++) coefficient[i][a] = 0.0;
   double share[3] = {0.0, 0.0, 0.0}, share_all[3];    // |area| in, outside the group; largest
   for (int i = 0; i < atom->nlocal; i++) {
     // a mirror atom's share is its source's: taken where the source is in
@@ -539,11 +553,11 @@ void FixSPHTraction::build_coefficients()
     // taken off instead of added: 0.28 spacings of the face's load short,
     // a first-order load error
     if (owner) owner->reflect_vector(atom->x0[i], c);
-    const tagint target = tag[source];
     const double size = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     share[takes ? 0 : 1] += size;
     share[2] = std::max(share[2], size);
-    if (takes) mine.insert(mine.end(), {(double) target, c[0], c[1], c[2]});
+    if (takes)
+      for (int a = 0; a < 3; a++) coefficient[source][a] += c[a];
   }
   MPI_Allreduce(share, share_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&share[2], &share_all[2], 1, MPI_DOUBLE, MPI_MAX, world);
@@ -579,19 +593,12 @@ void FixSPHTraction::build_coefficients()
                    "near the face",
                    id, group->names[igroup], "xyz"[axis], plane, outside);
 
-  const std::vector<double> all = SPHElastic::gather_all(mine, world);
-  // sum in rank order, the same on every rank, then drop the interior's round-off
-  coefficient.clear();
-  for (size_t m = 0; m < all.size(); m += 4) {
-    auto &c = coefficient[(tagint) all[m]];
-    for (int a = 0; a < 3; a++) c[a] += all[m + 1 + a];
-  }
-  for (auto it = coefficient.begin(); it != coefficient.end();) {
-    const auto &c = it->second;
-    if (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) > ROUNDOFF * share_all[2])
-      ++it;
-    else
-      it = coefficient.erase(it);
+  comm->reverse_comm(this);
+  // the interior's sums are round-off
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *c = coefficient[i];
+    if (std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= ROUNDOFF * share_all[2])
+      for (int a = 0; a < 3; a++) coefficient[i][a] = 0.0;
   }
 }
 
@@ -614,9 +621,9 @@ void FixSPHTraction::post_force(int /*vflag*/)
   const imageint *image = atom->image;
   sums.clear();
 
-  for (const auto &[id_atom, c] : coefficient) {
-    const int i = atom->map(id_atom);
-    if (i < 0 || i >= atom->nlocal) continue;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *c = coefficient[i];
+    if (c[0] == 0.0 && c[1] == 0.0 && c[2] == 0.0) continue;
     double fadd[3];
     for (int a = 0; a < 3; a++) fadd[a] = (axis >= 0) ? t[a] * c[a] : value[0] * c[a];
     double unwrap[3];
@@ -645,4 +652,51 @@ double FixSPHTraction::compute_scalar()
 double FixSPHTraction::compute_vector(int n)
 {
   return sums.get(n + 1, world);
+}
+
+/* ----------------------------------------------------------------------
+   the per-atom load coefficients: grown with the atom arrays, moved with
+   the atoms, the ghosts' shares summed into their owners
+------------------------------------------------------------------------- */
+
+void FixSPHTraction::grow_arrays(int nmax)
+{
+  memory->grow(coefficient, nmax, 3, "sph/traction:coefficient");
+}
+
+void FixSPHTraction::copy_arrays(int i, int j, int /*delflag*/)
+{
+  for (int a = 0; a < 3; a++) coefficient[j][a] = coefficient[i][a];
+}
+
+int FixSPHTraction::pack_exchange(int i, double *buf)
+{
+  for (int a = 0; a < 3; a++) buf[a] = coefficient[i][a];
+  return 3;
+}
+
+int FixSPHTraction::unpack_exchange(int nlocal, double *buf)
+{
+  for (int a = 0; a < 3; a++) coefficient[nlocal][a] = buf[a];
+  return 3;
+}
+
+int FixSPHTraction::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int a = 0; a < 3; a++) buf[m++] = coefficient[i][a];
+  return m;
+}
+
+void FixSPHTraction::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++)
+    for (int a = 0; a < 3; a++) coefficient[list[k]][a] += buf[m++];
+}
+
+double FixSPHTraction::memory_usage()
+{
+  return 3.0 * atom->nmax * sizeof(double);
 }

@@ -24,9 +24,7 @@ FixStyle(sph/traction,FixSPHTraction);
 #include "sph_elastic_mpi.h"
 #include "sph_elastic_values.h"
 
-#include <array>
 #include <string>
-#include <unordered_map>
 
 namespace LAMMPS_NS {
 
@@ -40,6 +38,7 @@ namespace LAMMPS_NS {
 class FixSPHTraction : public Fix {
  public:
   FixSPHTraction(class LAMMPS *, int, char **);
+  ~FixSPHTraction() override;
   int setmask() override;
   void init() override;
   void setup(int) override;
@@ -48,6 +47,13 @@ class FixSPHTraction : public Fix {
   void min_post_force(int) override;
   double compute_scalar() override;
   double compute_vector(int) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  double memory_usage() override;
 
  private:
   enum { TRACTION, PRESSURE };
@@ -64,9 +70,9 @@ class FixSPHTraction : public Fix {
   double gap;               // from the plane to the group's nearest atom
   double far_side;          // from the plane to the body's opposite side
   bool far_is_mirror;       // that side is a plane of fix sph/mirror
-  // load coefficients of each loaded atom by ID (f[a] = t[a] c[a] on a face,
-  // p c[a] on a surface); the same on every rank
-  std::unordered_map<tagint, std::array<double, 3>> coefficient;
+  // per atom: its load coefficients (f[a] = t[a] c[a] on a face, p c[a] on
+  // a surface; 0 for an atom the load misses), moving with the atom
+  double **coefficient;
   class PairSPHICB *pair;
   SPHElastic::LazySum<4> sums;    // load potential, total applied force (f_ID reads 0 before a run)
 

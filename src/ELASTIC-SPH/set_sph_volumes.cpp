@@ -42,13 +42,13 @@
 #include "input.h"
 #include "math_const.h"
 #include "modify.h"
-#include "sph_elastic_mpi.h"
 #include "variable.h"
 
 #include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 using namespace LAMMPS_NS;
 using MathConst::MY_2PI;
@@ -421,8 +421,7 @@ void SetSPHVolumes::polar_weights(std::vector<double> &volume)
     angles_mine.insert(angles_mine.end(), {(double) circle[i], theta});
   }
   MPI_Allreduce(moments.data(), moments_all.data(), 5 * ncircle, MPI_DOUBLE, MPI_SUM, world);
-  const std::vector<double> sites =
-      sites_per_circle(moments_all, SPHElastic::gather_all(angles_mine, world), r_lo, nplane);
+  const std::vector<double> sites = sites_per_circle(moments_all, angles_mine, r_lo, nplane);
   auto occupied = [&](long long k, long long m) {
     if (zperiod) m = wrap(m, zperiod);
     return k >= 0 && k < nlayer && m >= 0 && m < nplane && moments_all[5 * (k * nplane + m)] > 0.0;
@@ -478,8 +477,19 @@ long long SetSPHVolumes::polar_index(double d, tagint id, const char *what, doub
 /* ----------------------------------------------------------------------
    sites per full circle: the atoms of an evenly filled circle, or those an
    evenly spaced arc would have if it went round (warned: exact where the
-   arc's ends are symmetry planes)
+   arc's ends are symmetry planes).  The angles of an arc's atoms meet on
+   the circle's rendezvous rank (comm->rendezvous, circle c on rank c mod
+   nprocs), which alone holds them; the arcs' sites are then summed over
+   the ranks like the moments, one value per circle.  'angles' holds this
+   rank's (circle, angle) pairs
 ------------------------------------------------------------------------- */
+
+namespace {
+struct ArcSearch {
+  std::vector<double> sites;    // of the arcs this rank holds, 0 elsewhere
+  long long uneven;             // the first circle that is no even arc, LLONG_MAX if none
+};
+}    // namespace
 
 std::vector<double> SetSPHVolumes::sites_per_circle(const std::vector<double> &moments,
                                                     const std::vector<double> &angles, double r_lo,
@@ -493,19 +503,36 @@ std::vector<double> SetSPHVolumes::sites_per_circle(const std::vector<double> &m
         std::hypot(m[3], m[4]) <= ANGLE_TOL * m[0])
       sites[c] = m[0];
   }
-  std::vector<std::vector<double>> arc_angles(ncircle);
+  std::vector<double> sent;
+  std::vector<int> procs;
   for (size_t a = 0; a < angles.size(); a += 2) {
-    const auto c = (size_t) angles[a];
-    if (sites[c] == 0.0) arc_angles[c].push_back(angles[a + 1]);
+    const auto c = (long long) angles[a];
+    if (sites[c] != 0.0 || moments[5 * c] == 0.0) continue;
+    sent.insert(sent.end(), {angles[a], angles[a + 1]});
+    procs.push_back((int) (c % comm->nprocs));
   }
+  ArcSearch search{std::vector<double>(ncircle, 0.0), LLONG_MAX};
+  char *nothing = nullptr;
+  comm->rendezvous(0, (int) procs.size(), reinterpret_cast<char *>(sent.data()), 2 * sizeof(double),
+                   0, procs.data(), &SetSPHVolumes::arcs_in_rendezvous, 0, nothing, 0, &search);
+  std::vector<double> arc_sites(ncircle);
+  MPI_Allreduce(search.sites.data(), arc_sites.data(), (int) ncircle, MPI_DOUBLE, MPI_SUM, world);
+  long long uneven = LLONG_MAX;
+  MPI_Allreduce(&search.uneven, &uneven, 1, MPI_LONG_LONG, MPI_MIN, world);
+  if (uneven != LLONG_MAX)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Set_sph_volumes polar: the {} atoms on the circle of radius {} are neither evenly "
+               "spaced round it nor one evenly spaced arc of it (at least 3 atoms); polar "
+               "volumes need each circle evenly filled, or cut into one arc by symmetry planes",
+               (bigint) moments[5 * uneven], r_lo + (double) (uneven / nplane) * spacing);
+
   bigint narc = 0;
   double first_radius = 0.0, first_sites = 0.0, first_atoms = 0.0;
   for (size_t c = 0; c < ncircle; c++) {
-    if (arc_angles[c].empty()) continue;
-    const double r = r_lo + (double) ((long long) c / nplane) * spacing;
-    sites[c] = arc_sites_per_circle(arc_angles[c], r);
+    if (arc_sites[c] == 0.0) continue;
+    sites[c] = arc_sites[c];
     if (narc++ == 0) {
-      first_radius = r;
+      first_radius = r_lo + (double) ((long long) c / nplane) * spacing;
       first_sites = sites[c];
       first_atoms = moments[5 * c];
     }
@@ -521,12 +548,32 @@ std::vector<double> SetSPHVolumes::sites_per_circle(const std::vector<double> &m
 }
 
 /* ----------------------------------------------------------------------
-   the atoms of a circle that is not evenly filled must form one arc of
-   an evenly spaced circle: all angular gaps but the arc's opening equal
-   2 pi / N for an integer N, which this returns
+   on a rendezvous rank: the sites per full circle of each circle whose
+   atoms' angles arrived here, as (circle, angle) pairs
 ------------------------------------------------------------------------- */
 
-double SetSPHVolumes::arc_sites_per_circle(std::vector<double> &theta, double r) const
+int SetSPHVolumes::arcs_in_rendezvous(int n, char *inbuf, int &flag, int *& /*procs*/,
+                                      char *& /*outbuf*/, void *ptr)
+{
+  auto *search = static_cast<ArcSearch *>(ptr);
+  const auto *in = reinterpret_cast<const double *>(inbuf);
+  std::map<long long, std::vector<double>> arcs;
+  for (int k = 0; k < n; k++) arcs[(long long) in[2 * k]].push_back(in[2 * k + 1]);
+  for (auto &[c, theta] : arcs) {
+    search->sites[c] = arc_sites_per_circle(theta);
+    if (search->sites[c] == 0.0) search->uneven = std::min(search->uneven, c);
+  }
+  flag = 0;    // nothing goes back
+  return 0;
+}
+
+/* ----------------------------------------------------------------------
+   the atoms of a circle that is not evenly filled must form one arc of
+   an evenly spaced circle: all angular gaps but the arc's opening equal
+   2 pi / N for an integer N, which this returns (0 if they do not)
+------------------------------------------------------------------------- */
+
+double SetSPHVolumes::arc_sites_per_circle(std::vector<double> &theta)
 {
   std::sort(theta.begin(), theta.end());
   const size_t n = theta.size();
@@ -543,13 +590,7 @@ double SetSPHVolumes::arc_sites_per_circle(std::vector<double> &theta, double r)
       const double steps = gap / step;
       if (++opening > 1 || std::fabs(steps - std::round(steps)) > LATTICE_TOL * steps) even = false;
     }
-  if (!even)
-    error->all(FLERR, Error::NOLASTLINE,
-               "Set_sph_volumes polar: the {} atoms on the circle of radius {} are neither evenly "
-               "spaced round it nor one evenly spaced arc of it (at least 3 atoms); polar "
-               "volumes need each circle evenly filled, or cut into one arc by symmetry planes",
-               n, r);
-  return std::round(sites);
+  return even ? std::round(sites) : 0.0;
 }
 
 /* ----------------------------------------------------------------------

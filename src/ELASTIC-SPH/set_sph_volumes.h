@@ -72,7 +72,8 @@ class SetSPHVolumes : public Command {
   long long polar_index(double, tagint, const char *, double) const;
   std::vector<double> sites_per_circle(const std::vector<double> &, const std::vector<double> &,
                                        double, long long) const;
-  double arc_sites_per_circle(std::vector<double> &, double) const;
+  static double arc_sites_per_circle(std::vector<double> &);
+  static int arcs_in_rendezvous(int, char *, int &, int *&, char *&, void *);
   void map_weights(std::vector<double> &volume);
   void assign(const std::vector<double> &, const char *);
   static void mark_neighbours(int, char *, void *);

@@ -48,7 +48,9 @@ namespace SPHElastic {
     return out;
   }
 
-  // all ranks' records, concatenated in rank order, on every rank
+  // all ranks' records, concatenated in rank order, on every rank: only for
+  // records that do not grow with the atoms (one per body, say); per-atom
+  // data meets in a rendezvous (comm->rendezvous) or by ghost communication
   inline std::vector<double> gather_all(const std::vector<double> &mine, MPI_Comm world)
   {
     int nprocs = 1;

@@ -17,6 +17,7 @@
 
 #include "sph_mirror_surface.h"
 
+#include "comm.h"
 #include "domain.h"
 #include "error.h"
 #include "lammps.h"
@@ -25,6 +26,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 
@@ -287,4 +289,87 @@ double SPHElastic::nearest_distance(const std::vector<double> &records, int stri
     });
   }
   return std::sqrt(nearest2);
+}
+
+/* ----------------------------------------------------------------------
+   the points meet in a rendezvous decomposition of space
+   (comm->rendezvous), cells of size 'reach' hashed to ranks: each point
+   goes to its own cell's rank and to those of the cells around it, so
+   every pair nearer than 'reach' meets where one of its points is at
+   home.  No rank holds more than its cells' share of the points
+------------------------------------------------------------------------- */
+
+namespace {
+struct NearestSearch {
+  double reach;
+  int nprocs, me;
+  double nearest;
+};
+
+int cell_rank(const double *X, double reach, int nprocs)
+{
+  uint64_t hash = 1469598103934665603ULL;    // FNV-1a over the cell's indices
+  for (int a = 0; a < 3; a++) {
+    const auto index = static_cast<long long>(std::floor(X[a] / reach));
+    hash = (hash ^ static_cast<uint64_t>(index)) * 1099511628211ULL;
+  }
+  return static_cast<int>(hash % static_cast<uint64_t>(nprocs));
+}
+
+// on a rendezvous rank: the nearest pair with a point at home here
+int nearest_in_rendezvous(int n, char *inbuf, int &flag, int *& /*procs*/, char *& /*outbuf*/,
+                          void *ptr)
+{
+  auto *search = static_cast<NearestSearch *>(ptr);
+  const auto *in = reinterpret_cast<const double *>(inbuf);
+  const std::vector<double> records(in, in + 3 * static_cast<size_t>(n));
+  const PointCells points(records, 3, 0, search->reach);
+  double nearest2 = search->reach * search->reach;
+  for (int c = 0; c < points.size(); c++) {
+    const double *X = points.point(c);
+    if (cell_rank(X, search->reach, search->nprocs) != search->me) continue;
+    points.visit_near(X, [&](int k) {
+      if (k == c) return true;
+      const double *Y = points.point(k);
+      nearest2 = std::min(nearest2,
+                          (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+                              (X[2] - Y[2]) * (X[2] - Y[2]));
+      return true;
+    });
+  }
+  search->nearest = std::sqrt(nearest2);
+  flag = 0;    // nothing goes back
+  return 0;
+}
+}    // namespace
+
+double SPHElastic::nearest_distance_all(LAMMPS *lmp, const std::vector<double> &points,
+                                        double reach)
+{
+  NearestSearch search{reach, lmp->comm->nprocs, lmp->comm->me, reach};
+  std::vector<double> sent;
+  std::vector<int> procs;
+  for (size_t k = 0; k < points.size(); k += 3) {
+    const double *X = &points[k];
+    std::vector<int> ranks;
+    for (int a = -1; a <= 1; a++)
+      for (int b = -1; b <= 1; b++)
+        for (int e = -1; e <= 1; e++) {
+          const double Y[3] = {X[0] + a * reach, X[1] + b * reach, X[2] + e * reach};
+          ranks.push_back(cell_rank(Y, reach, search.nprocs));
+        }
+    std::sort(ranks.begin(), ranks.end());
+    ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
+    for (int r : ranks) {
+      sent.insert(sent.end(), X, X + 3);
+      procs.push_back(r);
+    }
+  }
+  char *nothing = nullptr;
+  lmp->comm->rendezvous(0, static_cast<int>(procs.size()), reinterpret_cast<char *>(sent.data()),
+                        3 * sizeof(double), 0, procs.data(), &nearest_in_rendezvous, 0, nothing, 0,
+                        &search);
+  double nearest = reach;
+  MPI_Allreduce(&search.nearest, &nearest, 1, MPI_DOUBLE, MPI_MIN, lmp->world);
+  return nearest;
 }

@@ -132,6 +132,11 @@ namespace SPHElastic {
   // same on every rank given the same records
   double nearest_distance(const std::vector<double> &records, int stride, int offset, double reach,
                           double limit = -1.0, const std::vector<char> *from = nullptr);
+
+  // the smallest distance between two of the points of all ranks (each
+  // rank gives its own as x, y, z triples), or 'reach' if none is nearer
+  // than that; collective, the same on every rank
+  double nearest_distance_all(LAMMPS *lmp, const std::vector<double> &points, double reach);
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
 

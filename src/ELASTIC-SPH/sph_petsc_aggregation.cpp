@@ -36,41 +36,149 @@ constexpr int POWER_STEPS = 20;       // power iterations for rho(D^-1 A)
 constexpr double RHO_MARGIN = 1.1;    // power iteration approaches rho from below
 
 /* ----------------------------------------------------------------------
-   the aggregates of all ranks, sorted, and the contiguous range of them
-   each rank owns (an even split: with keys that follow the geometry, as
-   the fine rows do, neighbouring aggregates stay on one rank)
+   the records out[r] (of 'width' values each) sent to rank r; returns the
+   records that arrived, in the order of their senders, and each one's
+   sender in 'from'.  The per-rank counts are the only arrays as long as
+   the number of ranks (as in LAMMPS's rendezvous)
 ------------------------------------------------------------------------- */
 
-struct AggregateList {
-  std::vector<int64_t> keys;
-  PetscInt first = 0, last = 0;    // owned: [first, last)
+std::vector<int64_t> exchange(MPI_Comm comm, const std::vector<std::vector<int64_t>> &out,
+                              int width, std::vector<int> &from)
+{
+  const int nprocs = static_cast<int>(out.size());
+  std::vector<int> sendcounts(nprocs), recvcounts(nprocs), sdispls(nprocs + 1, 0),
+      rdispls(nprocs + 1, 0);
+  for (int r = 0; r < nprocs; r++) {
+    sendcounts[r] = static_cast<int>(out[r].size());
+    sdispls[r + 1] = sdispls[r] + sendcounts[r];
+  }
+  MPI_Alltoall(sendcounts.data(), 1, MPI_INT, recvcounts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < nprocs; r++) rdispls[r + 1] = rdispls[r] + recvcounts[r];
+  std::vector<int64_t> sendbuf, recvbuf(rdispls[nprocs]);
+  sendbuf.reserve(sdispls[nprocs]);
+  for (const auto &records : out) sendbuf.insert(sendbuf.end(), records.begin(), records.end());
+  MPI_Alltoallv(sendbuf.data(), sendcounts.data(), sdispls.data(), MPI_INT64_T, recvbuf.data(),
+                recvcounts.data(), rdispls.data(), MPI_INT64_T, comm);
+  from.clear();
+  for (int r = 0; r < nprocs; r++) from.insert(from.end(), recvcounts[r] / width, r);
+  return recvbuf;
+}
 
-  PetscErrorCode gather(MPI_Comm comm, const std::vector<int64_t> &given)
+/* ----------------------------------------------------------------------
+   the aggregates of this rank's rows and their numbers over all ranks,
+   with no list of all aggregates on any rank.  The ranks that have rows
+   of an aggregate meet at the rendezvous rank of its key, which makes
+   the one with most of them (the lowest of a tie) its owner: the coarse
+   columns of an aggregate then lie where most of its rows are.  Each
+   rank numbers the aggregates it owns in key order after those of the
+   ranks before it (one rank numbers all in key order, as a global sort
+   did), and the rendezvous rank passes each number on to the ranks that
+   have the key.  The numbering is a permutation of the coarse unknowns,
+   which the coarse solve (a factorisation) does not see
+------------------------------------------------------------------------- */
+
+class AggregateList {
+ public:
+  PetscInt first = 0, last = 0;    // the numbers of the owned aggregates: [first, last)
+  PetscInt total = 0;              // over all ranks
+
+  PetscErrorCode number(MPI_Comm comm, const std::vector<int64_t> &given)
   {
     PetscFunctionBeginUser;
-    std::vector<int64_t> mine(given);
-    std::sort(mine.begin(), mine.end());
-    mine.erase(std::unique(mine.begin(), mine.end()), mine.end());
-    int nprocs = 1, me = 0;
     MPI_Comm_size(comm, &nprocs);
+    met = exchange(comm, keys_and_rows(given), 2, senders);
+    std::vector<int> ignored;
+    std::vector<int64_t> owned = exchange(comm, owners(), 1, ignored);
+    std::sort(owned.begin(), owned.end());
+    const PetscInt nowned = static_cast<PetscInt>(owned.size());
+    MPI_Exscan(&nowned, &first, 1, MPIU_INT, MPI_SUM, comm);
+    int me = 0;
     MPI_Comm_rank(comm, &me);
-    int count = static_cast<int>(mine.size());
-    std::vector<int> counts(nprocs), offsets(nprocs + 1, 0);
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    for (int r = 0; r < nprocs; r++) offsets[r + 1] = offsets[r] + counts[r];
-    keys.resize(offsets[nprocs]);
-    MPI_Allgatherv(mine.data(), count, MPI_INT64_T, keys.data(), counts.data(), offsets.data(),
-                   MPI_INT64_T, comm);
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    const PetscInt total = static_cast<PetscInt>(keys.size());
-    first = total * me / nprocs;
-    last = total * (me + 1) / nprocs;
+    if (me == 0) first = 0;    // MPI_Exscan leaves rank 0's undefined
+    last = first + nowned;
+    MPI_Allreduce(&nowned, &total, 1, MPIU_INT, MPI_SUM, comm);
+    std::vector<std::vector<int64_t>> out(nprocs);
+    for (PetscInt a = 0; a < nowned; a++) {
+      auto &to = out[rendezvous_rank(owned[a])];
+      to.insert(to.end(), {owned[a], first + a});
+    }
+    const std::vector<int64_t> numbered = exchange(comm, out, 2, ignored);
+    const std::vector<int64_t> answers = exchange(comm, numbers_to_senders(numbered), 2, ignored);
+    numbers.resize(keys.size());
+    for (size_t c = 0; c < answers.size(); c += 2)
+      numbers[position(answers[c])] = static_cast<PetscInt>(answers[c + 1]);
     PetscFunctionReturn(0);
   }
-  PetscInt index(int64_t key) const
+  PetscInt index(int64_t key) const { return numbers[position(key)]; }
+
+ private:
+  int nprocs = 1;
+  std::vector<int64_t> keys;        // of this rank's rows, sorted
+  std::vector<PetscInt> numbers;    // of each over all ranks
+  std::vector<int64_t> met;         // at the rendezvous: (key, rows) from each sender
+  std::vector<int> senders;
+
+  size_t position(int64_t key) const
   {
-    return static_cast<PetscInt>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+    return std::lower_bound(keys.begin(), keys.end(), key) - keys.begin();
+  }
+  int rendezvous_rank(int64_t key) const
+  {
+    uint64_t hash = static_cast<uint64_t>(key) * 0x9E3779B97F4A7C15ULL;    // Fibonacci hashing
+    hash ^= hash >> 29;
+    return static_cast<int>(hash % static_cast<uint64_t>(nprocs));
+  }
+
+  // (key, rows this rank has in it) to the key's rendezvous rank
+  std::vector<std::vector<int64_t>> keys_and_rows(const std::vector<int64_t> &given)
+  {
+    std::vector<int64_t> sorted(given);
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::vector<int64_t>> out(nprocs);
+    for (size_t k = 0; k < sorted.size();) {
+      size_t end = k;
+      while (end < sorted.size() && sorted[end] == sorted[k]) end++;
+      keys.push_back(sorted[k]);
+      auto &to = out[rendezvous_rank(sorted[k])];
+      to.insert(to.end(), {sorted[k], static_cast<int64_t>(end - k)});
+      k = end;
+    }
+    return out;
+  }
+
+  // at the rendezvous: each key to the sender with most rows in it
+  std::vector<std::vector<int64_t>> owners() const
+  {
+    std::vector<size_t> order(senders.size());
+    for (size_t c = 0; c < order.size(); c++) order[c] = c;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      if (met[2 * a] != met[2 * b]) return met[2 * a] < met[2 * b];
+      if (met[2 * a + 1] != met[2 * b + 1]) return met[2 * a + 1] > met[2 * b + 1];
+      return senders[a] < senders[b];
+    });
+    std::vector<std::vector<int64_t>> out(nprocs);
+    for (size_t c = 0; c < order.size(); c++)
+      if (c == 0 || met[2 * order[c]] != met[2 * order[c - 1]])
+        out[senders[order[c]]].push_back(met[2 * order[c]]);
+    return out;
+  }
+
+  // at the rendezvous: the owners' (key, number) to each sender of the key
+  std::vector<std::vector<int64_t>> numbers_to_senders(const std::vector<int64_t> &numbered) const
+  {
+    std::vector<std::pair<int64_t, int64_t>> number_of;
+    for (size_t c = 0; c < numbered.size(); c += 2)
+      number_of.emplace_back(numbered[c], numbered[c + 1]);
+    std::sort(number_of.begin(), number_of.end());
+    std::vector<std::vector<int64_t>> out(nprocs);
+    for (size_t c = 0; c < senders.size(); c++) {
+      const auto it = std::lower_bound(number_of.begin(), number_of.end(), met[2 * c],
+                                       [](const std::pair<int64_t, int64_t> &entry, int64_t key) {
+                                         return entry.first < key;
+                                       });
+      out[senders[c]].insert(out[senders[c]].end(), {it->first, it->second});
+    }
+    return out;
   }
 };
 
@@ -89,7 +197,7 @@ PetscErrorCode raw_interpolation(Mat A, const AggregationRows &given, const Aggr
   PetscCall(MatGetLocalSize(A, &nlocal, nullptr));
   PetscCall(MatGetSize(A, &nglobal, nullptr));
   const PetscInt owned = (list.last - list.first) * nmode;
-  const PetscInt total = static_cast<PetscInt>(list.keys.size()) * nmode;
+  const PetscInt total = list.total * nmode;
   PetscCall(MatCreateAIJ(comm, nlocal, owned, nglobal, total, nmode, nullptr, nmode, nullptr, raw));
   // only the modes that move this coordinate: a component's own
   // translation-like modes and the rotations about the other axes, about
@@ -238,7 +346,7 @@ PetscErrorCode SPHElastic::smoothed_aggregation(Mat A, const AggregationRows &gi
   PetscFunctionBeginUser;
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(A));
   AggregateList list;
-  PetscCall(list.gather(comm, given.keys));
+  PetscCall(list.number(comm, given.keys));
 
   Mat raw, T, tentative;
   PetscCall(raw_interpolation(A, given, list, &raw));
@@ -251,7 +359,7 @@ PetscErrorCode SPHElastic::smoothed_aggregation(Mat A, const AggregationRows &gi
   if (!smooth) {
     *P = tentative;
     if (stats) {
-      stats->naggregates = static_cast<PetscInt>(list.keys.size());
+      stats->naggregates = list.total;
       PetscCall(MatGetSize(T, nullptr, &stats->ncoarse));
     }
     PetscCall(MatDestroy(&T));
@@ -274,7 +382,7 @@ PetscErrorCode SPHElastic::smoothed_aggregation(Mat A, const AggregationRows &gi
   PetscCall(MatDestroy(&tentative));
 
   if (stats) {
-    stats->naggregates = static_cast<PetscInt>(list.keys.size());
+    stats->naggregates = list.total;
     PetscCall(MatGetSize(T, nullptr, &stats->ncoarse));
     stats->rho = rho;
   }
