@@ -241,10 +241,10 @@ CYLINDER_PROBLEMS = {
 # plate's step (0.48 dx/c_s) is only 2.1 times shorter than the fluid's
 # (0.1 dx/c_f) and the mid-span deflection stays small, about 3 % of t
 # (linear in the load to 0.1 %; the real plate: 0.14 %).  Particle spacings
-# t/n for n = 3, 4, 6, 8, 12 layers through the thickness.
+# t/n for n = 3, 4, 6, 8, 10, 12, 16 layers through the thickness.
 PLATE_GEOMETRY = {"L": 0.1, "t": 0.01, "water": 0.05, "E": 1.0e7, "nu": 0.3,
                   "rho": 2700.0, "rho_fluid": 1000.0, "g": 9.81}
-PLATE_LAYERS = (3, 4, 6, 8, 12)
+PLATE_LAYERS = (3, 4, 6, 8, 10, 12, 16)
 
 PLATE_NOTE = (
     "The plate (thickness H, y in [0, H]; the example's plate is -H < y < 0) clamped on "

@@ -588,13 +588,19 @@ def validate(out: Path, variants: list[str], full: bool, tables: str, dx: float,
 # Table 9: the hydrostatic plate of issue 35 (examples/fsi_plate: a water
 # column of RHEO's fluid on an elastic plate clamped at both ends, coupled by
 # create_sph_twins and fix sph/fluid), scaled (esph.problems PLATE_GEOMETRY),
-# against the FE continuum under the same load; layers through the thickness
-# quick: about 1.5 min on one quiet core (3 layers 40 s, 4 layers 70 s CPU);
-# full adds 6 (about 4 min) and 8 (about 10 min)
-PLATE_LAYERS_RUN = {False: (3, 4), True: (3, 4, 6, 8)}
+# against the FE continuum under the same load, and against the same plate
+# without water (in.fsi_plate_dry, Newton statics, a second); layers through
+# the thickness.  Every run at the fluid's step with the plate sub-stepped
+# (the example's substeps 0: ceil(dtf/dts) sub-steps of at most 0.4 h/c_s,
+# 3 here; 2.1 times fewer steps than at the plate's own step, the same
+# deflection at 3 layers to 1e-5).  Quick: 3 and 4 layers, about 1 min of
+# CPU; full adds 6, 8 and 10 (about 2, 4 and 8 min): 10 layers is the
+# finest whose coupled run takes at most 10 minutes on one core.
+PLATE_LAYERS_RUN = {False: (3, 4), True: (3, 4, 6, 8, 10)}
 # simulated time, the share of it before the averages, the water's and the
-# plate's damping times (fix viscous: drags that vanish at rest)
-PLATE_RUN = {"T": 0.2, "settle": 0.5, "tau": 0.01, "taus": 0.005}
+# plate's damping times (fix viscous: drags that vanish at rest), the
+# plate's sub-steps (0: as many as the fluid's step needs)
+PLATE_RUN = {"T": 0.2, "settle": 0.5, "tau": 0.01, "taus": 0.005, "substeps": 0}
 
 
 def plate_variables(layers: int, **run) -> dict:
@@ -607,15 +613,19 @@ def plate_variables(layers: int, **run) -> dict:
 
 def plate_errors(layers: int, nprocs: int = 1, **run) -> dict:
     """One run of the scaled plate: the time-averaged mid-span deflection
-    (the two mid-span columns' mean) against the FE continuum and Kirchhoff,
-    the fluid's force on the plate against rho_f g H L, and the change of
-    the total mass and momentum of water and plate."""
+    (the two mid-span columns' mean) against the FE continuum, Kirchhoff
+    and the dry plate's statics (in.fsi_plate_dry, whose geometry and load
+    are PLATE_GEOMETRY's), the fluid's force on the plate against
+    rho_f g H L, and the change of the total mass and momentum of water and
+    plate."""
     from . import fe
     from .problems import FSI_PLATE, PLATE_GEOMETRY as G, plate_kirchhoff
     from .runner import run_mpi
     variables = plate_variables(layers, **run)
     out = run_mpi(FSI_PLATE, variables, nprocs)
     v = out.variables
+    w_dry = run_mpi(FSI_PLATE.with_name("in.fsi_plate_dry"), {"dx": variables["dx"]},
+                    1).variables["wcol"]
     ref = fe.plate_deflection(G["g"], variables["dx"], G["nu"], "strain")
     kirchhoff = plate_kirchhoff()
     weight = (G["rho_fluid"] * G["water"] + G["rho"] * G["t"]) * G["g"] * G["L"]
@@ -623,9 +633,11 @@ def plate_errors(layers: int, nprocs: int = 1, **run) -> dict:
     impulse = weight * v["window"]
     return {"layers": layers, "dx": variables["dx"], "atoms": int(v["atoms"]),
             "water": int(v["water"]), "plate": int(v["plate"]), "steps": int(v["steps"]),
-            "dt": v["dt"], "tstart": v["tstart"], "window": v["window"], "wall": out.wall,
+            "dt": v["dt"], "substeps": int(v["substeps"]), "tstart": v["tstart"],
+            "window": v["window"], "wall": out.wall,
             "w": v["wcol"], "w_top": v["wmid"], "fe": ref["dv"], "fe_error": ref["error_estimate"],
             "kirchhoff": kirchhoff, "err_fe": v["wcol"] / ref["dv"] - 1.0,
+            "w_dry": w_dry, "err_dry": w_dry / ref["dv"] - 1.0, "vs_dry": v["wcol"] / w_dry - 1.0,
             "err_kirchhoff": v["wcol"] / kirchhoff - 1.0, "force": v["force"],
             "wallforce": v["wallforce"], "mass_drift": v["mass1"] / v["mass0"] - 1.0,
             "dp_x": (v["px1"] - v["px0"]) / impulse, "dp_y": (v["py1"] - v["py0"]) / impulse,
@@ -642,22 +654,29 @@ def table9(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
           f"{G['water']:g} m, E = {G['E']:g} Pa, nu = {G['nu']:g}, rho_s = {G['rho']:g}, plane "
           f"strain, the plate's weight on), against the FE continuum under the same load: the "
           f"two mid-span columns' mean deflection averaged over the last "
-          f"{100 * (1 - PLATE_RUN['settle']):g} % of T = {PLATE_RUN['T']:g} s; force = fluid's "
-          "force on the plate / (rho_f g H L); dP = change of the total momentum of water and "
-          "plate over the window / the load's impulse over it; q = observed order")
-    head = (f"{'layers':>6} {'atoms':>6} | {'w[m]':>10} {'FE':>10} {'err':>8} {'q':>5} | "
-            f"{'Kirchhoff':>9} | {'force':>6} {'walls':>7} | {'mass':>8} {'dPy':>8} | "
-            f"{'FE error':>8} | {'wall[s]':>7}")
+          f"{100 * (1 - PLATE_RUN['settle']):g} % of T = {PLATE_RUN['T']:g} s, at the fluid's "
+          "step with sub = the plate's sub-steps per step (fix sph/fluid substeps); dry = the "
+          "plate without water (in.fsi_plate_dry: the column's pressure as forces on the top "
+          "atoms, Newton statics) against the FE, coupled/dry = the coupling's own share; "
+          "force = fluid's force on the plate / (rho_f g H L); dP = change of the total "
+          "momentum of water and plate over the window / the load's impulse over it; q = "
+          "observed order")
+    head = (f"{'layers':>6} {'atoms':>6} {'sub':>3} | {'w[m]':>10} {'FE':>10} {'err':>8} "
+            f"{'q':>5} | {'dry':>8} {'q':>5} {'cpl/dry':>8} | {'Kirchhoff':>9} | {'force':>6} "
+            f"{'walls':>7} | {'mass':>8} {'dPy':>8} | {'FE error':>8} | {'wall[s]':>7}")
     print_head(head)
     series = []
     for layers in PLATE_LAYERS_RUN[full]:
         progress(f"[esph] hydrostatic plate, {layers} layers ...")
         series.append(plate_errors(layers, nprocs))
     q = order([r["err_fe"] for r in series], [r["dx"] for r in series])
+    q_dry = order([r["err_dry"] for r in series], [r["dx"] for r in series])
     rows = []
     for j, r in enumerate(series):
-        print(f"{r['layers']:6d} {r['atoms']:6d} | {r['w']:10.4e} {r['fe']:10.4e} "
-              f"{100 * r['err_fe']:+7.3f}% {q[j]:5.2f} | {100 * r['err_kirchhoff']:+8.2f}% | "
+        print(f"{r['layers']:6d} {r['atoms']:6d} {r['substeps']:3d} | {r['w']:10.4e} "
+              f"{r['fe']:10.4e} {100 * r['err_fe']:+7.3f}% {q[j]:5.2f} | "
+              f"{100 * r['err_dry']:+7.3f}% {q_dry[j]:5.2f} {100 * r['vs_dry']:+7.3f}% | "
+              f"{100 * r['err_kirchhoff']:+8.2f}% | "
               f"{r['force']:6.4f} {r['wallforce']:+7.4f} | {r['mass_drift']:8.1e} "
               f"{r['dp_y']:+8.1e} | {r['fe_error']:8.1e} | {r['wall']:7.1f}", flush=True)
         rows.append({"table": "9", "problem": "fsi_plate", **r})
