@@ -323,21 +323,11 @@ int nearest_in_rendezvous(int n, char *inbuf, int &flag, int *& /*procs*/, char 
   auto *search = static_cast<NearestSearch *>(ptr);
   const auto *in = reinterpret_cast<const double *>(inbuf);
   const std::vector<double> records(in, in + 3 * static_cast<size_t>(n));
-  const PointCells points(records, 3, 0, search->reach);
-  double nearest2 = search->reach * search->reach;
-  for (int c = 0; c < points.size(); c++) {
-    const double *X = points.point(c);
-    if (cell_rank(X, search->reach, search->nprocs) != search->me) continue;
-    points.visit_near(X, [&](int k) {
-      if (k == c) return true;
-      const double *Y = points.point(k);
-      nearest2 = std::min(nearest2,
-                          (X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
-                              (X[2] - Y[2]) * (X[2] - Y[2]));
-      return true;
-    });
-  }
-  search->nearest = std::sqrt(nearest2);
+  std::vector<char> home(n);
+  for (int c = 0; c < n; c++)
+    home[c] = cell_rank(&records[3 * static_cast<size_t>(c)], search->reach, search->nprocs) ==
+        search->me;
+  search->nearest = SPHElastic::nearest_distance(records, 3, 0, search->reach, -1.0, &home);
   flag = 0;    // nothing goes back
   return 0;
 }
