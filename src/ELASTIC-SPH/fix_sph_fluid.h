@@ -58,6 +58,7 @@ class FixSPHFluid : public Fix {
   void reset_dt() override;
   double compute_vector(int) override;
   double memory_usage() override;
+  void *extract(const char *, int &) override;
 
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;

@@ -62,6 +62,8 @@ class PairSPHElastic : public Pair {
   double stable_dt_unit() const { return dt_unit; }
   // the largest stable timestep of the last estimate (0 before the first)
   double stable_dt_limit() const { return stable_fraction() * dt_unit; }
+  // the timestep the package advises, with a margin below that limit
+  double stable_dt_advised() const { return advised_dt(); }
   const SPHElastic::Kernel &get_kernel() const { return kernel; }
   virtual bool has_green() const { return true; }    // is the green array filled
   class FixSPHPartners *get_partners() const { return partners; }
@@ -114,6 +116,7 @@ class PairSPHElastic : public Pair {
   virtual double stable_fraction() const = 0;
   // the timestep the messages advise, safely below that limit
   double advised_dt() const;
+  int substeps_per_step() const;
   void check_units();
   void check_coefficients();
   void check_single_instance();
