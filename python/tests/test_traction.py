@@ -324,29 +324,39 @@ def test_pressure_on_a_whole_surface_is_the_hydrostatic_equilibrium():
     lmp.close()
 
 
+def clamped_strip(nu: float, mass: float, load: str) -> str:
+    """Commands for the 2d strip of the lattice made before them: mirror
+    clamp columns at x < 0 (fix sph/mirror x 0), exact volumes, sph/icb
+    (pk1, quadratic gradient, plane stress), and the traction `load`
+    (fix sph/traction's arguments) in the energy."""
+    return f"""set group all mol 1
+set group all volume {DX * DX * T}
+set group all mass {mass}
+region clampzone block INF 0.0 INF INF INF INF units box
+group clamp region clampzone
+group body subtract all clamp
+set_sph_volumes all lattice {DX} thickness {T}
+pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
+pair_coeff * * {E} {nu}
+neighbor {0.5 * DX} bin
+fix hold clamp sph/mirror x 0.0
+fix load body sph/traction {load}
+fix_modify load energy yes
+"""
+
+
 def truss_tip(solver, Fx, nu=0.0, nx=20, ny=6, ranks_note=""):
     """A bar clamped by a mirror at x = 0, pulled by a traction on x = L."""
     lmp = make_lammps()
     L, H = nx * DX, ny * DX
     lattice_2d(lmp, f"-3 {nx} 0 {ny}")
-    lmp.commands_string(f"""
-        set group all mol 1
-        set group all volume {DX * DX * T}
-        set group all mass {1000 * DX * DX * T}
-        region clampzone block INF 0.0 INF INF INF INF units box
-        group clamp region clampzone
-        group body subtract all clamp
-        set_sph_volumes all lattice {DX} thickness {T}
-        pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
-        pair_coeff * * {E} {nu}
-        neighbor {0.5 * DX} bin
-        fix hold clamp sph/mirror x 0.0
-        fix load body sph/traction x {L} traction {Fx / (H * T)} 0.0
-        fix_modify load energy yes
+    lmp.commands_string(clamped_strip(nu, 1000 * DX * DX * T,
+                                      f"x {L} traction {Fx / (H * T)} 0.0") + f"""
         compute ref all property/atom x0x
         variable ux atom x-c_ref
+        region tipzone block {L - DX} INF INF INF INF INF units box
         group tip region tipzone
-    """.replace("group tip region tipzone", f"region tipzone block {L - DX} INF INF INF INF INF units box\ngroup tip region tipzone"))
+    """)
     lmp.commands_string("""
         compute tipx tip reduce ave v_ux
         thermo_style custom step pe fnorm c_tipx
@@ -553,22 +563,9 @@ def test_face_loads_with_mirror_shares_across_ranks_agree_on_1_and_2_ranks(tmp_p
     nx, ny = 6, 10
     head = sph_header(f"-3 {nx} 0 {ny}", DX, 2, extra="processors * 1 1\n")
     script = tmp_path / "in.shared"
-    script.write_text(head + f"""create_atoms 1 box
-set group all mol 1
-set group all volume {DX * DX * T}
-set group all mass 1.0
-region clampzone block INF 0.0 INF INF INF INF units box
-group clamp region clampzone
-group body subtract all clamp
-set_sph_volumes all lattice {DX} thickness {T}
-pair_style sph/icb {1.2 * DX} stress pk1 gradient quadratic plane stress
-pair_coeff * * {E} {NU}
-neighbor {0.5 * DX} bin
-fix hold clamp sph/mirror x 0.0
-fix load body sph/traction y {ny * DX} traction 1.5e6 -2.0e6
-fix_modify load energy yes
-run 0
-write_dump all custom loads.${{nprocs}} x y fx fy modify format float %.17g
+    script.write_text(head + "create_atoms 1 box\n"
+                      + clamped_strip(NU, 1.0, f"y {ny * DX} traction 1.5e6 -2.0e6") + """run 0
+write_dump all custom loads.${nprocs} x y fx fy modify format float %.17g
 print "RESULT fx $(f_load[1]:%.17g)"
 print "RESULT fy $(f_load[2]:%.17g)"
 """)

@@ -273,13 +273,14 @@ void CreateSPHMirrors::check_room_behind(const std::vector<double> &images,
   MPI_Allreduce(&lo_mine, &lo, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   MPI_Allreduce(&hi_mine, &hi, 1, MPI_LMP_TAGINT, MPI_MAX, world);
   double **x0 = atom->x0;
-  bigint behind = 0, behind_all = 0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    const double beyond = -side * surface.signed_distance(x0[i]);
-    if (beyond > 0.0 && beyond <= depth && atom->molecule[i] >= lo && atom->molecule[i] <= hi)
-      behind++;
-  }
-  behind_all = SPHElastic::sum_all(behind, world);
+  const tagint *molecule = atom->molecule;
+  const bigint behind_all = SPHElastic::count_all(
+      atom->nlocal,
+      [&](int i) {
+        const double beyond = -side * surface.signed_distance(x0[i]);
+        return beyond > 0.0 && beyond <= depth && molecule[i] >= lo && molecule[i] <= hi;
+      },
+      world);
   if (behind_all > 0)
     error->all(FLERR, Error::NOLASTLINE,
                "Create_sph_mirrors: {} atoms of the body's molecules already lie behind {}, where "

@@ -591,10 +591,12 @@ void FixSPHFluid::check_setup()
   // back (read_data without the SPH_TWINS section, write_data nofix), and
   // the former twins would stand as rigid walls
   if (ntwins == 0) {
-    bigint nelastic_mine = 0, nelastic = 0;
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & groupbit) && pair->solid_type(type[i])) nelastic_mine++;
-    nelastic = SPHElastic::sum_all(nelastic_mine, world);
+    const bigint nelastic = SPHElastic::count_all(
+        nlocal,
+        [&](int i) {
+          return (mask[i] & groupbit) && pair->solid_type(type[i]);
+        },
+        world);
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: there are no twins (i_sph_twin is 0 everywhere), and the fluid "
                "would not see the {} elastic atoms: create them with "

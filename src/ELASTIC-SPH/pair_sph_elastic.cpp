@@ -385,10 +385,13 @@ void PairSPHElastic::check_twins_coupled()
   const int index = atom->find_custom("sph_twin", flag, cols);
   if (index < 0 || flag != 0 || cols != 0) return;
   if (!modify->get_fix_by_style("^sph/fluid$").empty()) return;
-  bigint mine = 0, all = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (atom->ivector[index][i]) mine++;
-  all = SPHElastic::sum_all(mine, world);
+  const int *twin = atom->ivector[index];
+  const bigint all = SPHElastic::count_all(
+      atom->nlocal,
+      [&](int i) {
+        return twin[i] != 0;
+      },
+      world);
   if (all > 0)
     error->all(FLERR, Error::NOLASTLINE,
                "There are {} twins of create_sph_twins but no fix sph/fluid: fix rheo would "

@@ -33,6 +33,16 @@ namespace SPHElastic {
     return all;
   }
 
+  // the number, over all ranks, of each rank's atoms i < n for which
+  // test(i) holds
+  template <typename Test> bigint count_all(int n, Test &&test, MPI_Comm world)
+  {
+    bigint mine = 0;
+    for (int i = 0; i < n; i++)
+      if (test(i)) mine++;
+    return sum_all(mine, world);
+  }
+
   // the largest of the ranks' values and the lowest rank that holds it (the
   // rank that then broadcasts what goes with it, an atom ID say)
   struct RankMax {
