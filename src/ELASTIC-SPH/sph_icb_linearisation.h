@@ -17,6 +17,7 @@
 #include "pointers.h"
 #include "sph_linearisation.h"
 
+#include <limits>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -66,9 +67,11 @@ namespace SPHElastic {
     void strain_hessian(int i, const int *jl, const BlockSink &) const;
     void stencil_hessian(double volume, const double *A, const std::vector<tagint> &id,
                          const std::vector<double> &G, const BlockSink &) const;
+    double nearest_partner(int i) const;
     bool compact_stencil(int i, const int *jl, std::vector<tagint> &id,
                          std::vector<double> &G) const;
-    void hourglass_hessian(int i, const int *jl, const BlockSink &) const;
+    void hourglass_hessian(int i, const int *jl, const BlockSink &, double scale = 1.0,
+                           double reach = std::numeric_limits<double>::infinity()) const;
     void refresh_tangents();
     void product_stress_pass(int i);
     template <int DIM> void hourglass_product_pairs(double *kv);
