@@ -218,14 +218,16 @@ void PairSPHICB::compute(int eflag, int vflag)
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
   ninverted = 0;
-  // F_i = sum_j (x_j - x_i) (x) g_ij, then each atom's stress from its F
-  for (int i = 0; i < nlocal; i++)
+  // F_i = sum_j (x_j - x_i) (x) g_ij, then each atom's stress from its F.
+  // The solid atoms only: the other atoms' rows stay as
+  // refresh_partner_indices() cleared them (no sweep touches them)
+  for (const int i : solid_local)
     for (int a = 0; a < 9; a++) defgrad[i][a] = 0.0;
   if (two_d)
     sweeps->gradients<2>(nlocal, atom->x, defgrad);
   else
     sweeps->gradients<3>(nlocal, atom->x, defgrad);
-  for (int i = 0; i < nlocal; i++) {
+  for (const int i : solid_local) {
     const double e = stress_pass(i);
     if (eflag_global) eng_vdwl += e;
     if (eflag_atom) eatom[i] += e;
@@ -298,6 +300,7 @@ void PairSPHICB::grow_work()
     memory->create(defgrad, nmax_work, 9, "pair:defgrad");
     memory->create(qstress, nmax_work, 9, "pair:qstress");
     memory->create(pk2, nmax_work, NSYMM + 1, "pair:pk2");
+    jlocal_builds = -1;    // the rows of the atoms without material are cleared there
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -330,9 +333,35 @@ void PairSPHICB::refresh_partner_indices()
       if (j < 0) report_missing_partner(i, k);
       jlocal[i * mp + k] = j;
     }
+  collect_solid_atoms();
   build_pairs();
   jlocal_builds = neighbor->ncalls;
   jlocal_nlocal = nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   the owned atoms of a type with a material, in index order, for the
+   per-atom passes of compute().  Under hybrid most atoms may be another
+   sub-style's (the water of a coupled run: 18 of 19 atoms), and a pass
+   over all owned atoms cost more than the solid's own work.  The others
+   get no deformation, stress or energy: their rows are cleared here, once
+   per rebuild, as each compute() cleared them before (no sweep writes
+   them: an atom without material has no partners and is no partner)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::collect_solid_atoms()
+{
+  const int *type = atom->type;
+  solid_local.clear();
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (solid_type(type[i])) {
+      solid_local.push_back(i);
+      continue;
+    }
+    for (int a = 0; a < 9; a++) defgrad[i][a] = qstress[i][a] = 0.0;
+    for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
+    pk2[i][NSYMM] = 1.0;
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -496,14 +525,9 @@ void PairSPHICB::require_current_partners(const char *what) const
 
 double PairSPHICB::stress_pass(int i)
 {
-  // an atom of a type without a material (another sub-style's, under
-  // hybrid) has no partners: no deformation, stress or energy
-  if (!solid_type(atom->type[i])) {
-    for (int a = 0; a < 9; a++) qstress[i][a] = 0.0;
-    for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
-    pk2[i][NSYMM] = 1.0;
-    return 0.0;
-  }
+  // called for the solid atoms only (solid_local): an atom of a type
+  // without a material (another sub-style's, under hybrid) has no
+  // partners, deformation, stress or energy
   double F[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
@@ -727,5 +751,6 @@ void PairSPHICB::forward_comm_array(double **array, int width)
 double PairSPHICB::memory_usage()
 {
   return PairSPHElastic::memory_usage() + (double) nmax_work * (18 + NSYMM + 1) * sizeof(double) +
-      (double) maxlocal * sizeof(int) + sweeps->memory_usage();
+      (double) maxlocal * sizeof(int) + (double) solid_local.capacity() * sizeof(int) +
+      sweeps->memory_usage();
 }

@@ -85,6 +85,7 @@ class PairSPHICB : public PairSPHElastic {
   int nmax_work, maxlocal;
   bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
+  std::vector<int> solid_local;    // owned atoms with a material, since that fill
   // found by the last force computation of a minimisation, owned atoms only
   int ninverted;                  // inverted atoms (det F <= 0, mirror atoms aside)
   tagint inverted_id;             // one of them
@@ -105,6 +106,7 @@ class PairSPHICB : public PairSPHElastic {
     return !(atom->mask[i] & mirror_groupbit) && solid_type(atom->type[i]);
   }
   void refresh_partner_indices();
+  void collect_solid_atoms();
   bool partner_indices_current() const;
   void require_current_partners(const char *what) const;
   void report_missing_partner(int i, int k) const;
