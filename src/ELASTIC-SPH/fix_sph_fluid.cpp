@@ -36,7 +36,7 @@
 #include "neigh_list.h"
 #include "neigh_request.h"
 #include "neighbor.h"
-#include "pair_sph_elastic.h"
+#include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -172,7 +172,7 @@ void FixSPHFluid::init()
                "Fix sph/fluid requires an atom map: add 'atom_modify map array' before the box "
                "is created");
 
-  elastic_pair = PairSPHElastic::find(lmp);
+  elastic_pair = PairSPHICB::find(lmp);
   // fix rheo: defined before this fix, whose pre_force must follow its
   fix_rheo = nullptr;
   int irheo = -1, iself = -1;
@@ -1241,6 +1241,10 @@ void FixSPHFluid::initial_integrate(int /*vflag*/)
       for (int a = 0; a < dim; a++) x[i][a] += h * v[i][a];
     }
     comm->forward_comm(this);
+    // the last sub-step ends where the step's force computation starts:
+    // pair sph/icb keeps these elastic forces for it (and computes them
+    // again only if it must tally energy or virial, or something moved)
+    if (k == nsub - 1) elastic_pair->keep_forces();
     elastic_forces();
     for (int i : body)
       for (int a = 0; a < 3; a++) e[i][a] = f[i][a];

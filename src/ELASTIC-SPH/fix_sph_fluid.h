@@ -73,10 +73,10 @@ class FixSPHFluid : public Fix {
 
  private:
   class FixRHEO *fix_rheo;
-  class PairSPHElastic *elastic_pair;    // found at init: integrates() runs per atom and step
-  int itwin;                             // index of "sph_twin" in atom->ivector
-  double dtf;                            // half a step's velocity kick per force/mass
-  double fsum[3], fall[3];               // fluid force on this rank's twins, all ranks'
+  class PairSPHICB *elastic_pair;    // found at init: integrates() runs per atom and step
+  int itwin;                         // index of "sph_twin" in atom->ivector
+  double dtf;                        // half a step's velocity kick per force/mass
+  double fsum[3], fall[3];           // fluid force on this rank's twins, all ranks'
   int fall_current;
   class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
   double spacing;           // the particle spacing V^(1/d) of the twins' volume V

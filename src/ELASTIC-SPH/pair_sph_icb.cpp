@@ -175,6 +175,8 @@ void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
   jlocal_builds = -1;    // neighbor->ncalls restarts from 0 at every init
+  keep_next = false;     // and the timestep may restart: no kept forces
+  kept_step = -1;
 
   // the check of the state every minimisation ends in
   if (modify->get_fix_by_style("^SPH_MINIMIZE_CHECK$").empty())
@@ -207,12 +209,19 @@ void PairSPHICB::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (!partners->built())
     error->all(FLERR, Error::NOLASTLINE, "Pair style sph/icb: reference partners were not built");
+  if (kept_step >= 0 && replay_kept_forces(eflag || vflag)) return;
 
   const int nlocal = atom->nlocal;
   grow_output();
   grow_work();
   refresh_partner_indices();
   ncompute++;
+  if (keep_next) {
+    const double *const *const f = atom->f;
+    kept_from_zero = true;
+    for (const int i : solid_local)
+      kept_from_zero = kept_from_zero && f[i][0] == 0.0 && f[i][1] == 0.0 && f[i][2] == 0.0;
+  }
   mirror_groupbit = FixSPHPartners::mirror_groups(modify);
 
   const bool two_d = domain->dimension == 2;
@@ -248,6 +257,8 @@ void PairSPHICB::compute(int eflag, int vflag)
   else
     force_divergence<3>();
 
+  if (keep_next) keep_forces_now();
+
   // the scale of the residual when a minimisation ends (of the solid
   // atoms: under hybrid the other atoms' forces are not elastic)
   if (update->whichflag == 2) {
@@ -258,6 +269,79 @@ void PairSPHICB::compute(int eflag, int vflag)
       if (solid_type(type[i]))
         internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
   }
+}
+
+/* ----------------------------------------------------------------------
+   fix sph/fluid's sub-steps end at the positions the step's force
+   computation starts from: the elastic forces of its last sub-step are
+   those that pair hybrid would compute again.  keep_forces() asks the
+   next compute() to keep them (it starts from zero forces on the solid
+   atoms), and the next compute() of the same timestep adds the kept ones
+   instead of recomputing them, if it tallies no energy or virial and no
+   position the pair reads has changed (no neighbor list rebuild between,
+   the same positions of the solid atoms, owned and ghost).  The sum is
+   the same, bit for bit, where nothing else put a force on the atom
+   before (pair rheo puts none on RHEO solids).  A third of the coupled
+   run's evaluations of the plate, examples/fsi_plate with 3 sub-steps
+------------------------------------------------------------------------- */
+
+void PairSPHICB::keep_forces()
+{
+  keep_next = true;
+}
+
+/* ----------------------------------------------------------------------
+   at the end of compute(): its forces on the owned solid atoms, and the
+   positions of the solid atoms it read, if the forces started from zero
+   (a force from elsewhere could not be told apart from the pair's)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::keep_forces_now()
+{
+  keep_next = false;
+  if (!kept_from_zero) return;
+  const double *const *const x = atom->x;
+  const double *const *const f = atom->f;
+  kept_f.resize(3 * solid_local.size());
+  kept_x.resize(3 * (solid_local.size() + solid_ghost.size()));
+  size_t m = 0, n = 0;
+  for (const int i : solid_local)
+    for (int a = 0; a < 3; a++) {
+      kept_f[m++] = f[i][a];
+      kept_x[n++] = x[i][a];
+    }
+  for (const int i : solid_ghost)
+    for (int a = 0; a < 3; a++) kept_x[n++] = x[i][a];
+  kept_step = update->ntimestep;
+}
+
+/* ----------------------------------------------------------------------
+   f += the kept forces, if they are those of the present state and
+   nothing is tallied (see keep_forces()); false if they must be computed.
+   Every rank decides the same: compute() communicates
+------------------------------------------------------------------------- */
+
+bool PairSPHICB::replay_kept_forces(bool tally)
+{
+  const bool this_step = kept_step == update->ntimestep;
+  kept_step = -1;    // once
+  int same = this_step && !tally && partner_indices_current() &&
+      kept_f.size() == 3 * solid_local.size() &&
+      kept_x.size() == 3 * (solid_local.size() + solid_ghost.size());
+  const double *const *const x = atom->x;
+  size_t n = 0;
+  for (size_t k = 0; same && k < solid_local.size(); k++)
+    for (int a = 0; a < 3; a++) same = same && x[solid_local[k]][a] == kept_x[n++];
+  for (size_t k = 0; same && k < solid_ghost.size(); k++)
+    for (int a = 0; a < 3; a++) same = same && x[solid_ghost[k]][a] == kept_x[n++];
+  int all = 0;
+  MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_MIN, world);
+  if (!all) return false;
+  double *const *const f = atom->f;
+  size_t m = 0;
+  for (const int i : solid_local)
+    for (int a = 0; a < 3; a++) f[i][a] += kept_f[m++];
+  return true;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -352,8 +436,10 @@ void PairSPHICB::refresh_partner_indices()
 void PairSPHICB::collect_solid_atoms()
 {
   const int *type = atom->type;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   solid_local.clear();
-  for (int i = 0; i < atom->nlocal; i++) {
+  solid_ghost.clear();
+  for (int i = 0; i < nlocal; i++) {
     if (solid_type(type[i])) {
       solid_local.push_back(i);
       continue;
@@ -362,6 +448,9 @@ void PairSPHICB::collect_solid_atoms()
     for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
     pk2[i][NSYMM] = 1.0;
   }
+  // the ghosts whose positions the kept forces depend on (keep_forces())
+  for (int i = nlocal; i < nall; i++)
+    if (solid_type(type[i])) solid_ghost.push_back(i);
 }
 
 /* ----------------------------------------------------------------------
@@ -751,6 +840,7 @@ void PairSPHICB::forward_comm_array(double **array, int width)
 double PairSPHICB::memory_usage()
 {
   return PairSPHElastic::memory_usage() + (double) nmax_work * (18 + NSYMM + 1) * sizeof(double) +
-      (double) maxlocal * sizeof(int) + (double) solid_local.capacity() * sizeof(int) +
-      sweeps->memory_usage();
+      (double) maxlocal * sizeof(int) +
+      (double) (solid_local.capacity() + solid_ghost.capacity()) * sizeof(int) +
+      (double) (kept_f.capacity() + kept_x.capacity()) * sizeof(double) + sweeps->memory_usage();
 }
