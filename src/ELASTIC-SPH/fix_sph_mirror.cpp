@@ -296,6 +296,7 @@ void FixSPHMirror::check_other_fixes()
         return (mask[i] & groupbit) || fsource[i][0] > 0.0;
       },
       "hands the mirror atoms' forces to their sources, among them");
+  clear_fsource(nall);    // zero again, as hand_over() expects it
 
   const int acts = update->whichflag == 2 ? MIN_POST_FORCE : POST_FORCE;
   for (int k = 0; k < modify->nfix; k++) {
@@ -890,24 +891,39 @@ void FixSPHMirror::hand_over_forces()
 
 void FixSPHMirror::clear_fsource(int nall)
 {
-  if (atom->nmax > nmax) {
-    nmax = atom->nmax;
-    memory->destroy(fsource);
-    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
-  }
+  grow_fsource();
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+}
+
+/* ----------------------------------------------------------------------
+   room in fsource for atom->nmax atoms; new rows are zero, which every
+   row is again after each use (hand_over(), check_other_fixes())
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::grow_fsource()
+{
+  if (atom->nmax <= nmax) return;
+  nmax = atom->nmax;
+  memory->destroy(fsource);
+  memory->create(fsource, nmax, 3, "sph/mirror:fsource");
+  memset(&fsource[0][0], 0, sizeof(double) * 3 * nmax);
 }
 
 /* ----------------------------------------------------------------------
    T^T v of each mirror atom's per-atom vector v (owned atoms) added to its
    source's and v zeroed at the mirror, as the forces are; with magnitude
-   the entries of T count by their size (a scale for round-off)
+   the entries of T count by their size (a scale for round-off).
+   Only the rows of fsource that receive a share are visited, and zeroed
+   again after: clearing all owned and ghost rows and adding all owned rows
+   at each call cost more than the rest of the mirrors' work where most
+   atoms are not the body's (the water of examples/fsi_plate)
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::hand_over(double **values, bool magnitude)
 {
-  const int nall = atom->nlocal + atom->nghost;
-  clear_fsource(nall);
+  grow_fsource();
+  const int nlocal = atom->nlocal;
+  touched.clear();
 
   double **x0 = atom->x0;
   double T[3][3];
@@ -917,10 +933,20 @@ void FixSPHMirror::hand_over(double **values, bool magnitude)
       for (int b = 0; b < 3; b++)
         fsource[j][b] += (magnitude ? std::fabs(T[a][b]) : T[a][b]) * values[i][a];
     for (int a = 0; a < 3; a++) values[i][a] = 0.0;
+    touched.push_back(j);
   }
+  // the owned rows that the ghosts' shares are added to join touched
+  collect_touched = true;
   comm->reverse_comm(this);
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
+  collect_touched = false;
+  // each row once: a source may have several mirrors
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (const int i : touched) {
+    if (i < nlocal)
+      for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
+    for (int a = 0; a < 3; a++) fsource[i][a] = 0.0;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -999,6 +1025,7 @@ void FixSPHMirror::unpack_reverse_comm(int n, int *list, double *buf)
     fsource[j][0] += buf[m++];
     fsource[j][1] += buf[m++];
     fsource[j][2] += buf[m++];
+    if (collect_touched) touched.push_back(j);
   }
 }
 
