@@ -23,6 +23,7 @@ FixStyle(sph/fluid,FixSPHFluid);
 #include "fix.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -97,10 +98,14 @@ class FixSPHFluid : public Fix {
   double **fsave;            // the elastic atoms' total force, kept over a sub-cycle
   std::vector<int> body;     // local elastic atoms integrated here
   std::vector<int> solid;    // local and ghost elastic atoms
+  std::vector<std::pair<int, int>> twin_links;    // (twin, source) local indices
+  // neighbor->ncalls, nlocal and nlocal + nghost when the lists were made
+  bigint lists_builds = -1;
+  int lists_nlocal = -1, lists_nall = -1;
   std::vector<class Fix *> mirrors;
 
   bool integrates(int i) const;
-  void collect_body();
+  void refresh_lists(const char *when);
   void grow_work();
   void save_positions();
   void elastic_forces();
