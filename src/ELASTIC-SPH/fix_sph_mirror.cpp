@@ -36,6 +36,7 @@
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
@@ -194,6 +195,7 @@ int FixSPHMirror::setmask()
 
 void FixSPHMirror::init()
 {
+  links_builds = -1;    // neighbor->ncalls restarts from 0 at every init
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires reference positions: use atom_style sph/elastic");
@@ -336,13 +338,13 @@ void FixSPHMirror::min_setup(int vflag)
 void FixSPHMirror::pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors(disp.value);
+  place_mirrors(disp.value, true);
 }
 
 void FixSPHMirror::min_pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors(disp.value);
+  place_mirrors(disp.value, true);
 }
 
 void FixSPHMirror::post_force(int /*vflag*/)
@@ -841,20 +843,30 @@ void FixSPHMirror::reflect_vector(const double *Xm, double *c) const
    to the mirrors' ghosts
 ------------------------------------------------------------------------- */
 
-void FixSPHMirror::place_mirrors(const double *u0)
+void FixSPHMirror::place_mirrors(const double *u0, bool reuse_links)
 {
   for (int a = 0; a < 3; a++) applied[a] = u0[a];
   double **x = atom->x;
   double **x0 = atom->x0;
   double **v = atom->v;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
 
   // local indices hold until the next neighbor rebuild, which never falls
-  // between this (pre_force) and hand_over_forces() (post_force)
-  links.clear();
-  for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
+  // between this (pre_force) and hand_over_forces() (post_force).  A step's
+  // placement keeps the links of the last rebuild: a search of all owned
+  // atoms at every call (twice per sub-step of fix sph/fluid) cost more
+  // than the placement where most atoms are not the body's
+  const bool current =
+      links_builds == neighbor->ncalls && links_nlocal == nlocal && links_nall == nall;
+  if (!reuse_links || !current) {
+    links.clear();
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
+    links_builds = neighbor->ncalls;
+    links_nlocal = nlocal;
+    links_nall = nall;
+  }
 
   double T[3][3];
   for (const auto &[i, j] : links) {

@@ -48,7 +48,7 @@ class FixSPHMirror : public Fix {
   // pair every mirror with its source (and copy its volume); put the
   // mirrors where the surface displaced by u0 puts them
   void pair_up();
-  void place_mirrors(const double *u0);
+  void place_mirrors(const double *u0, bool reuse_links = false);
   FixSPHMirror(class LAMMPS *, int, char **);
   ~FixSPHMirror() override;
   int setmask() override;
@@ -106,6 +106,9 @@ class FixSPHMirror : public Fix {
   std::vector<int> touched;    // the rows of fsource a hand-over wrote
   bool collect_touched = false;              // the reverse communication adds to touched
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
+  // neighbor->ncalls, nlocal and nlocal + nghost when links were made
+  bigint links_builds = -1;
+  int links_nlocal = -1, links_nall = -1;
   int nmax;
   enum { COMM_POSITION, COMM_VOLUME };
   int comm_what;    // what forward comm carries
