@@ -299,6 +299,11 @@ void PairSPHICB::keep_forces()
 void PairSPHICB::keep_forces_now()
 {
   keep_next = false;
+  // every rank marks the step, kept or not: the next compute() decides
+  // on all ranks together
+  kept_step = update->ntimestep;
+  kept_f.clear();
+  kept_x.clear();
   if (!kept_from_zero) return;
   const double *const *const x = atom->x;
   const double *const *const f = atom->f;
@@ -312,7 +317,6 @@ void PairSPHICB::keep_forces_now()
     }
   for (const int i : solid_ghost)
     for (int a = 0; a < 3; a++) kept_x[n++] = x[i][a];
-  kept_step = update->ntimestep;
 }
 
 /* ----------------------------------------------------------------------
@@ -325,7 +329,7 @@ bool PairSPHICB::replay_kept_forces(bool tally)
 {
   const bool this_step = kept_step == update->ntimestep;
   kept_step = -1;    // once
-  int same = this_step && !tally && partner_indices_current() &&
+  int same = this_step && !tally && partner_indices_current() && kept_from_zero &&
       kept_f.size() == 3 * solid_local.size() &&
       kept_x.size() == 3 * (solid_local.size() + solid_ghost.size());
   const double *const *const x = atom->x;
