@@ -118,6 +118,25 @@ def test_two_ranks_agree_with_substeps(tmp_path):
     assert_ranks_agree(ends)
 
 
+def test_kept_forces_are_the_computed_ones():
+    """Pair sph/icb keeps the elastic forces of the last sub-step for the
+    step's own force computation (pair hybrid's), which starts from the
+    same positions, and computes them again on the steps that tally
+    energy or virial.  Thermo with pe and press at every step (computed
+    every step) against thermo every 30 steps (kept on the others, the
+    last step among them): the same positions, velocities and forces,
+    to the bit."""
+    ends = []
+    for every in (1, 30):
+        lmp = make_lammps()
+        lmp.commands_string(blob_script(pair=STIFF, couple=substepped(16)))
+        lmp.commands_string(f"thermo_style custom step pe press\nthermo {every}\nrun 100\n")
+        ends.append({name: by_id(lmp, name) for name in ("x", "v", "f")})
+        lmp.close()
+    for name in ("x", "v", "f"):
+        assert np.array_equal(ends[0][name], ends[1][name]), name
+
+
 def test_restart_with_substeps(tmp_path):
     """Continued from a restart file, the sub-stepped run ends where the
     uninterrupted one ends, to the bit: the elastic force kept between

@@ -36,7 +36,7 @@
 #include "neigh_list.h"
 #include "neigh_request.h"
 #include "neighbor.h"
-#include "pair_sph_elastic.h"
+#include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
 #include "update.h"
@@ -172,7 +172,8 @@ void FixSPHFluid::init()
                "Fix sph/fluid requires an atom map: add 'atom_modify map array' before the box "
                "is created");
 
-  elastic_pair = PairSPHElastic::find(lmp);
+  elastic_pair = PairSPHICB::find(lmp);
+  lists_builds = -1;    // neighbor->ncalls restarts from 0 at every init
   // fix rheo: defined before this fix, whose pre_force must follow its
   fix_rheo = nullptr;
   int irheo = -1, iself = -1;
@@ -263,14 +264,10 @@ int FixSPHFluid::source_of(int i, const char *when)
 
 void FixSPHFluid::sync_twins(bool positions)
 {
-  const int nlocal = atom->nlocal;
-  const int *mask = atom->mask;
-  const int *src = atom->ivector[itwin];
+  refresh_lists("after the position update");
   double **x = atom->x, **v = atom->v;
   imageint *image = atom->image;
-  for (int i = 0; i < nlocal; i++) {
-    if (!src[i] || !(mask[i] & groupbit)) continue;
-    const int j = source_of(i, "after the position update");
+  for (const auto &[i, j] : twin_links) {
     // sub-stepped, the source's velocity is its last sub-step's; the
     // wall's velocity over the step is its mean, as v at the half step is
     // in velocity Verlet
@@ -431,10 +428,9 @@ void FixSPHFluid::post_integrate()
 
 void FixSPHFluid::pre_force(int /*vflag*/)
 {
+  refresh_lists("before the force computation");
   int *status = atom->rheo_status;
-  const int *src = atom->ivector[itwin];
-  for (int i = 0; i < atom->nlocal; i++)
-    if (src[i] && (atom->mask[i] & groupbit)) status[i] |= RHEO_NS::STATUS_NO_INTEGRATION;
+  for (const auto &link : twin_links) status[link.first] |= RHEO_NS::STATUS_NO_INTEGRATION;
   if (nsub > 1) mark_no_integration();
 }
 
@@ -446,9 +442,9 @@ void FixSPHFluid::pre_force(int /*vflag*/)
 
 void FixSPHFluid::mark_no_integration()
 {
+  refresh_lists("before the force computation");
   int *status = atom->rheo_status;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (integrates(i)) status[i] |= RHEO_NS::STATUS_NO_INTEGRATION;
+  for (const int i : body) status[i] |= RHEO_NS::STATUS_NO_INTEGRATION;
 }
 
 /* ----------------------------------------------------------------------
@@ -463,12 +459,10 @@ void FixSPHFluid::post_force(int /*vflag*/)
 
 void FixSPHFluid::hand_back_forces()
 {
-  const int *src = atom->ivector[itwin];
+  refresh_lists("at the force hand-back");
   double **f = atom->f;
   fsum[0] = fsum[1] = fsum[2] = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!src[i] || !(atom->mask[i] & groupbit)) continue;
-    const int j = source_of(i, "at the force hand-back");
+  for (const auto &[i, j] : twin_links) {
     for (int a = 0; a < 3; a++) {
       f[j][a] += f[i][a];
       fsum[a] += f[i][a];
@@ -517,12 +511,10 @@ void FixSPHFluid::show_accelerations(bool still)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid {}: RHEO's interface forces (fp_store) are missing", id);
   double **fp_store = atom->darray[ifp];
-  const int *src = atom->ivector[itwin];
+  refresh_lists("at the end of the step");
   const double *rmass = atom->rmass;
   double **f = atom->f, **v = atom->v;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!src[i] || !(atom->mask[i] & groupbit)) continue;
-    const int j = source_of(i, "at the end of the step");
+  for (const auto &[i, j] : twin_links) {
     for (int a = 0; a < 3; a++) {
       const double acc = still ? 0.0 : f[j][a] / rmass[j];
       fp_store[i][a] = -rmass[i] * acc;
@@ -1131,10 +1123,21 @@ bool FixSPHFluid::integrates(int i) const
       (atom->mask[i] & fix_rheo->groupbit);
 }
 
-void FixSPHFluid::collect_body()
+/* ----------------------------------------------------------------------
+   the local lists of the per-step passes: the twins with their sources,
+   the elastic atoms integrated here (body) and the owned and ghost
+   elastic atoms (solid).  Local indices change only where LAMMPS
+   rebuilds its neighbor lists (atoms migrate, ghosts are recreated,
+   atoms are sorted), so the lists are made again only then: each pass
+   went through every owned atom, the water of a coupled run included.
+   when: for the error of a twin whose source is on another rank
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::refresh_lists(const char *when)
 {
-  auto *pair = PairSPHElastic::find(lmp);
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  if (lists_builds == neighbor->ncalls && lists_nlocal == nlocal && lists_nall == nall) return;
+  const auto *pair = elastic_pair ? elastic_pair : PairSPHElastic::find(lmp);
   const int *type = atom->type;
   body.clear();
   solid.clear();
@@ -1143,6 +1146,14 @@ void FixSPHFluid::collect_body()
     solid.push_back(i);
     if (i < nlocal && integrates(i)) body.push_back(i);
   }
+  const int *src = atom->ivector[itwin];
+  const int *mask = atom->mask;
+  twin_links.clear();
+  for (int i = 0; i < nlocal; i++)
+    if (src[i] && (mask[i] & groupbit)) twin_links.emplace_back(i, source_of(i, when));
+  lists_builds = neighbor->ncalls;
+  lists_nlocal = nlocal;
+  lists_nall = nall;
 }
 
 void FixSPHFluid::grow_work()
@@ -1165,15 +1176,15 @@ void FixSPHFluid::grow_work()
 void FixSPHFluid::save_positions()
 {
   grow_work();
+  refresh_lists("at the end of the step");
   double **x = atom->x;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (integrates(i))
-      for (int a = 0; a < 3; a++) xsave[i][a] = x[i][a];
+  for (const int i : body)
+    for (int a = 0; a < 3; a++) xsave[i][a] = x[i][a];
 }
 
 /* ----------------------------------------------------------------------
    the elastic force alone, into f of the elastic atoms (owned and ghost,
-   listed in solid by collect_body()): the ghosts' positions are current.
+   listed in solid by refresh_lists()): the ghosts' positions are current.
    The mirror atoms are placed first and hand their forces to their
    sources after, as in a step
 ------------------------------------------------------------------------- */
@@ -1195,7 +1206,7 @@ void FixSPHFluid::elastic_forces()
 void FixSPHFluid::store_elastic_forces()
 {
   grow_work();
-  collect_body();
+  refresh_lists("at setup");
   double **f = atom->f;
   for (int i : solid)
     for (int a = 0; a < 3; a++) fsave[i][a] = f[i][a];
@@ -1215,7 +1226,7 @@ void FixSPHFluid::initial_integrate(int /*vflag*/)
 {
   if (nsub <= 1) return;
   grow_work();
-  collect_body();
+  refresh_lists("at the step's start");
   const int dim = domain->dimension;
   const double dt = update->dt, h = dt / nsub;
   const double dtf_inner = 0.5 * h * force->ftm2v;
@@ -1241,6 +1252,10 @@ void FixSPHFluid::initial_integrate(int /*vflag*/)
       for (int a = 0; a < dim; a++) x[i][a] += h * v[i][a];
     }
     comm->forward_comm(this);
+    // the last sub-step ends where the step's force computation starts:
+    // pair sph/icb keeps these elastic forces for it (and computes them
+    // again only if it must tally energy or virial, or something moved)
+    if (k == nsub - 1) elastic_pair->keep_forces();
     elastic_forces();
     for (int i : body)
       for (int a = 0; a < 3; a++) e[i][a] = f[i][a];
@@ -1270,8 +1285,8 @@ void FixSPHFluid::final_integrate()
   const double dtf_outer = 0.5 * dt * force->ftm2v, dtf_inner = 0.5 * h * force->ftm2v;
   double **v = atom->v, **f = atom->f, **e = estore->astore;
   const double *rmass = atom->rmass;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!integrates(i)) continue;
+  refresh_lists("at the step's end");
+  for (const int i : body) {
     const double inner = dtf_inner / rmass[i], outer = dtf_outer / rmass[i];
     for (int a = 0; a < 3; a++) {
       v[i][a] += inner * (e[i][a] + e[i][6 + a]);
@@ -1362,5 +1377,5 @@ void FixSPHFluid::unpack_reverse_comm(int n, int *list, double *buf)
 double FixSPHFluid::memory_usage()
 {
   return 3.0 * 3.0 * nmax_work * sizeof(double) +
-      (double) (body.capacity() + solid.capacity()) * sizeof(int);
+      (double) (body.capacity() + solid.capacity() + 2 * twin_links.capacity()) * sizeof(int);
 }

@@ -23,6 +23,7 @@ FixStyle(sph/fluid,FixSPHFluid);
 #include "fix.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -73,10 +74,10 @@ class FixSPHFluid : public Fix {
 
  private:
   class FixRHEO *fix_rheo;
-  class PairSPHElastic *elastic_pair;    // found at init: integrates() runs per atom and step
-  int itwin;                             // index of "sph_twin" in atom->ivector
-  double dtf;                            // half a step's velocity kick per force/mass
-  double fsum[3], fall[3];               // fluid force on this rank's twins, all ranks'
+  class PairSPHICB *elastic_pair;    // found at init: integrates() runs per atom and step
+  int itwin;                         // index of "sph_twin" in atom->ivector
+  double dtf;                        // half a step's velocity kick per force/mass
+  double fsum[3], fall[3];           // fluid force on this rank's twins, all ranks'
   int fall_current;
   class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
   double spacing;           // the particle spacing V^(1/d) of the twins' volume V
@@ -97,10 +98,14 @@ class FixSPHFluid : public Fix {
   double **fsave;            // the elastic atoms' total force, kept over a sub-cycle
   std::vector<int> body;     // local elastic atoms integrated here
   std::vector<int> solid;    // local and ghost elastic atoms
+  std::vector<std::pair<int, int>> twin_links;    // (twin, source) local indices
+  // neighbor->ncalls, nlocal and nlocal + nghost when the lists were made
+  bigint lists_builds = -1;
+  int lists_nlocal = -1, lists_nall = -1;
   std::vector<class Fix *> mirrors;
 
   bool integrates(int i) const;
-  void collect_body();
+  void refresh_lists(const char *when);
   void grow_work();
   void save_positions();
   void elastic_forces();

@@ -36,6 +36,7 @@
 #include "group.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
@@ -194,6 +195,7 @@ int FixSPHMirror::setmask()
 
 void FixSPHMirror::init()
 {
+  links_builds = -1;    // neighbor->ncalls restarts from 0 at every init
   if (!atom->x0_flag)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/mirror requires reference positions: use atom_style sph/elastic");
@@ -296,6 +298,7 @@ void FixSPHMirror::check_other_fixes()
         return (mask[i] & groupbit) || fsource[i][0] > 0.0;
       },
       "hands the mirror atoms' forces to their sources, among them");
+  clear_fsource(nall);    // zero again, as hand_over() expects it
 
   const int acts = update->whichflag == 2 ? MIN_POST_FORCE : POST_FORCE;
   for (int k = 0; k < modify->nfix; k++) {
@@ -335,13 +338,13 @@ void FixSPHMirror::min_setup(int vflag)
 void FixSPHMirror::pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors(disp.value);
+  place_mirrors(disp.value, true);
 }
 
 void FixSPHMirror::min_pre_force(int /*vflag*/)
 {
   disp.evaluate(lmp);
-  place_mirrors(disp.value);
+  place_mirrors(disp.value, true);
 }
 
 void FixSPHMirror::post_force(int /*vflag*/)
@@ -840,20 +843,30 @@ void FixSPHMirror::reflect_vector(const double *Xm, double *c) const
    to the mirrors' ghosts
 ------------------------------------------------------------------------- */
 
-void FixSPHMirror::place_mirrors(const double *u0)
+void FixSPHMirror::place_mirrors(const double *u0, bool reuse_links)
 {
   for (int a = 0; a < 3; a++) applied[a] = u0[a];
   double **x = atom->x;
   double **x0 = atom->x0;
   double **v = atom->v;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
 
   // local indices hold until the next neighbor rebuild, which never falls
-  // between this (pre_force) and hand_over_forces() (post_force)
-  links.clear();
-  for (int i = 0; i < nlocal; i++)
-    if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
+  // between this (pre_force) and hand_over_forces() (post_force).  A step's
+  // placement keeps the links of the last rebuild: a search of all owned
+  // atoms at every call (twice per sub-step of fix sph/fluid) cost more
+  // than the placement where most atoms are not the body's
+  const bool current =
+      links_builds == neighbor->ncalls && links_nlocal == nlocal && links_nall == nall;
+  if (!reuse_links || !current) {
+    links.clear();
+    for (int i = 0; i < nlocal; i++)
+      if (mask[i] & groupbit) links.emplace_back(i, local_source(i));
+    links_builds = neighbor->ncalls;
+    links_nlocal = nlocal;
+    links_nall = nall;
+  }
 
   double T[3][3];
   for (const auto &[i, j] : links) {
@@ -890,24 +903,39 @@ void FixSPHMirror::hand_over_forces()
 
 void FixSPHMirror::clear_fsource(int nall)
 {
-  if (atom->nmax > nmax) {
-    nmax = atom->nmax;
-    memory->destroy(fsource);
-    memory->create(fsource, nmax, 3, "sph/mirror:fsource");
-  }
+  grow_fsource();
   if (nall > 0) memset(&fsource[0][0], 0, sizeof(double) * 3 * nall);
+}
+
+/* ----------------------------------------------------------------------
+   room in fsource for atom->nmax atoms; new rows are zero, which every
+   row is again after each use (hand_over(), check_other_fixes())
+------------------------------------------------------------------------- */
+
+void FixSPHMirror::grow_fsource()
+{
+  if (atom->nmax <= nmax) return;
+  nmax = atom->nmax;
+  memory->destroy(fsource);
+  memory->create(fsource, nmax, 3, "sph/mirror:fsource");
+  memset(&fsource[0][0], 0, sizeof(double) * 3 * nmax);
 }
 
 /* ----------------------------------------------------------------------
    T^T v of each mirror atom's per-atom vector v (owned atoms) added to its
    source's and v zeroed at the mirror, as the forces are; with magnitude
-   the entries of T count by their size (a scale for round-off)
+   the entries of T count by their size (a scale for round-off).
+   Only the rows of fsource that receive a share are visited, and zeroed
+   again after: clearing all owned and ghost rows and adding all owned rows
+   at each call cost more than the rest of the mirrors' work where most
+   atoms are not the body's (the water of examples/fsi_plate)
 ------------------------------------------------------------------------- */
 
 void FixSPHMirror::hand_over(double **values, bool magnitude)
 {
-  const int nall = atom->nlocal + atom->nghost;
-  clear_fsource(nall);
+  grow_fsource();
+  const int nlocal = atom->nlocal;
+  touched.clear();
 
   double **x0 = atom->x0;
   double T[3][3];
@@ -917,10 +945,20 @@ void FixSPHMirror::hand_over(double **values, bool magnitude)
       for (int b = 0; b < 3; b++)
         fsource[j][b] += (magnitude ? std::fabs(T[a][b]) : T[a][b]) * values[i][a];
     for (int a = 0; a < 3; a++) values[i][a] = 0.0;
+    touched.push_back(j);
   }
+  // the owned rows that the ghosts' shares are added to join touched
+  collect_touched = true;
   comm->reverse_comm(this);
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
+  collect_touched = false;
+  // each row once: a source may have several mirrors
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (const int i : touched) {
+    if (i < nlocal)
+      for (int a = 0; a < 3; a++) values[i][a] += fsource[i][a];
+    for (int a = 0; a < 3; a++) fsource[i][a] = 0.0;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -999,6 +1037,7 @@ void FixSPHMirror::unpack_reverse_comm(int n, int *list, double *buf)
     fsource[j][0] += buf[m++];
     fsource[j][1] += buf[m++];
     fsource[j][2] += buf[m++];
+    if (collect_touched) touched.push_back(j);
   }
 }
 

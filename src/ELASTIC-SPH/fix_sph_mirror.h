@@ -48,7 +48,7 @@ class FixSPHMirror : public Fix {
   // pair every mirror with its source (and copy its volume); put the
   // mirrors where the surface displaced by u0 puts them
   void pair_up();
-  void place_mirrors(const double *u0);
+  void place_mirrors(const double *u0, bool reuse_links = false);
   FixSPHMirror(class LAMMPS *, int, char **);
   ~FixSPHMirror() override;
   int setmask() override;
@@ -97,13 +97,18 @@ class FixSPHMirror : public Fix {
   void hand_over(double **values, bool magnitude);
 
  private:
-  SPHElastic::MirrorSurface surface;         // what the body is mirrored across
-  bool slip = false;                         // the tangential components slide
-  double mirror_sign[3];                     // diagonal ties: -1 odd (clamped), +1 sliding
-  SPHElastic::EqualValues disp;              // prescribed displacement u0 of the plane
-  tagint *source_tag;                        // per atom: its source's ID (mirror atoms), else 0
-  double **fsource;                          // forces handed to sources, owned + ghost atoms
+  SPHElastic::MirrorSurface surface;    // what the body is mirrored across
+  bool slip = false;                    // the tangential components slide
+  double mirror_sign[3];                // diagonal ties: -1 odd (clamped), +1 sliding
+  SPHElastic::EqualValues disp;         // prescribed displacement u0 of the plane
+  tagint *source_tag;                   // per atom: its source's ID (mirror atoms), else 0
+  double **fsource;            // forces handed to sources, owned + ghost atoms; zero between uses
+  std::vector<int> touched;    // the rows of fsource a hand-over wrote
+  bool collect_touched = false;              // the reverse communication adds to touched
   std::vector<std::pair<int, int>> links;    // (mirror, source) local indices, this step
+  // neighbor->ncalls, nlocal and nlocal + nghost when links were made
+  bigint links_builds = -1;
+  int links_nlocal = -1, links_nall = -1;
   int nmax;
   enum { COMM_POSITION, COMM_VOLUME };
   int comm_what;    // what forward comm carries
@@ -114,6 +119,7 @@ class FixSPHMirror : public Fix {
   void copy_volume(tagint, double, double);
   void hand_over_forces();
   void clear_fsource(int nall);
+  void grow_fsource();
   void check_other_fixes();
   void check_displacement_jump();
   void warn_if_atoms_behind(double reach);

@@ -175,6 +175,8 @@ void PairSPHICB::init_style()
 {
   PairSPHElastic::init_style();
   jlocal_builds = -1;    // neighbor->ncalls restarts from 0 at every init
+  keep_next = false;     // and the timestep may restart: no kept forces
+  kept_step = -1;
 
   // the check of the state every minimisation ends in
   if (modify->get_fix_by_style("^SPH_MINIMIZE_CHECK$").empty())
@@ -207,25 +209,34 @@ void PairSPHICB::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (!partners->built())
     error->all(FLERR, Error::NOLASTLINE, "Pair style sph/icb: reference partners were not built");
+  if (kept_step >= 0 && replay_kept_forces(eflag || vflag)) return;
 
   const int nlocal = atom->nlocal;
   grow_output();
   grow_work();
   refresh_partner_indices();
   ncompute++;
+  if (keep_next) {
+    const double *const *const f = atom->f;
+    kept_from_zero = true;
+    for (const int i : solid_local)
+      kept_from_zero = kept_from_zero && f[i][0] == 0.0 && f[i][1] == 0.0 && f[i][2] == 0.0;
+  }
   mirror_groupbit = FixSPHPartners::mirror_groups(modify);
 
   const bool two_d = domain->dimension == 2;
   if (rotfix) rotfix->begin_sweep();
   ninverted = 0;
-  // F_i = sum_j (x_j - x_i) (x) g_ij, then each atom's stress from its F
-  for (int i = 0; i < nlocal; i++)
+  // F_i = sum_j (x_j - x_i) (x) g_ij, then each atom's stress from its F.
+  // The solid atoms only: the other atoms' rows stay as
+  // refresh_partner_indices() cleared them (no sweep touches them)
+  for (const int i : solid_local)
     for (int a = 0; a < 9; a++) defgrad[i][a] = 0.0;
   if (two_d)
     sweeps->gradients<2>(nlocal, atom->x, defgrad);
   else
     sweeps->gradients<3>(nlocal, atom->x, defgrad);
-  for (int i = 0; i < nlocal; i++) {
+  for (const int i : solid_local) {
     const double e = stress_pass(i);
     if (eflag_global) eng_vdwl += e;
     if (eflag_atom) eatom[i] += e;
@@ -246,6 +257,8 @@ void PairSPHICB::compute(int eflag, int vflag)
   else
     force_divergence<3>();
 
+  if (keep_next) keep_forces_now();
+
   // the scale of the residual when a minimisation ends (of the solid
   // atoms: under hybrid the other atoms' forces are not elastic)
   if (update->whichflag == 2) {
@@ -256,6 +269,83 @@ void PairSPHICB::compute(int eflag, int vflag)
       if (solid_type(type[i]))
         internal_fsq += f[i][0] * f[i][0] + f[i][1] * f[i][1] + f[i][2] * f[i][2];
   }
+}
+
+/* ----------------------------------------------------------------------
+   fix sph/fluid's sub-steps end at the positions the step's force
+   computation starts from: the elastic forces of its last sub-step are
+   those that pair hybrid would compute again.  keep_forces() asks the
+   next compute() to keep them (it starts from zero forces on the solid
+   atoms), and the next compute() of the same timestep adds the kept ones
+   instead of recomputing them, if it tallies no energy or virial and no
+   position the pair reads has changed (no neighbor list rebuild between,
+   the same positions of the solid atoms, owned and ghost).  The sum is
+   the same, bit for bit, where nothing else put a force on the atom
+   before (pair rheo puts none on RHEO solids).  A third of the coupled
+   run's evaluations of the plate, examples/fsi_plate with 3 sub-steps
+------------------------------------------------------------------------- */
+
+void PairSPHICB::keep_forces()
+{
+  keep_next = true;
+}
+
+/* ----------------------------------------------------------------------
+   at the end of compute(): its forces on the owned solid atoms, and the
+   positions of the solid atoms it read, if the forces started from zero
+   (a force from elsewhere could not be told apart from the pair's)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::keep_forces_now()
+{
+  keep_next = false;
+  // every rank marks the step, kept or not: the next compute() decides
+  // on all ranks together
+  kept_step = update->ntimestep;
+  kept_f.clear();
+  kept_x.clear();
+  if (!kept_from_zero) return;
+  const double *const *const x = atom->x;
+  const double *const *const f = atom->f;
+  kept_f.resize(3 * solid_local.size());
+  kept_x.resize(3 * (solid_local.size() + solid_ghost.size()));
+  size_t m = 0, n = 0;
+  for (const int i : solid_local)
+    for (int a = 0; a < 3; a++) {
+      kept_f[m++] = f[i][a];
+      kept_x[n++] = x[i][a];
+    }
+  for (const int i : solid_ghost)
+    for (int a = 0; a < 3; a++) kept_x[n++] = x[i][a];
+}
+
+/* ----------------------------------------------------------------------
+   f += the kept forces, if they are those of the present state and
+   nothing is tallied (see keep_forces()); false if they must be computed.
+   Every rank decides the same: compute() communicates
+------------------------------------------------------------------------- */
+
+bool PairSPHICB::replay_kept_forces(bool tally)
+{
+  const bool this_step = kept_step == update->ntimestep;
+  kept_step = -1;    // once
+  int same = this_step && !tally && partner_indices_current() && kept_from_zero &&
+      kept_f.size() == 3 * solid_local.size() &&
+      kept_x.size() == 3 * (solid_local.size() + solid_ghost.size());
+  const double *const *const x = atom->x;
+  size_t n = 0;
+  for (size_t k = 0; same && k < solid_local.size(); k++)
+    for (int a = 0; a < 3; a++) same = same && x[solid_local[k]][a] == kept_x[n++];
+  for (size_t k = 0; same && k < solid_ghost.size(); k++)
+    for (int a = 0; a < 3; a++) same = same && x[solid_ghost[k]][a] == kept_x[n++];
+  int all = 0;
+  MPI_Allreduce(&same, &all, 1, MPI_INT, MPI_MIN, world);
+  if (!all) return false;
+  double *const *const f = atom->f;
+  size_t m = 0;
+  for (const int i : solid_local)
+    for (int a = 0; a < 3; a++) f[i][a] += kept_f[m++];
+  return true;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -298,6 +388,7 @@ void PairSPHICB::grow_work()
     memory->create(defgrad, nmax_work, 9, "pair:defgrad");
     memory->create(qstress, nmax_work, 9, "pair:qstress");
     memory->create(pk2, nmax_work, NSYMM + 1, "pair:pk2");
+    jlocal_builds = -1;    // the rows of the atoms without material are cleared there
   }
   const int need = atom->nmax * partners->maxpartner;
   if (need > maxlocal) {
@@ -330,9 +421,41 @@ void PairSPHICB::refresh_partner_indices()
       if (j < 0) report_missing_partner(i, k);
       jlocal[i * mp + k] = j;
     }
+  collect_solid_atoms();
   build_pairs();
   jlocal_builds = neighbor->ncalls;
   jlocal_nlocal = nlocal;
+}
+
+/* ----------------------------------------------------------------------
+   the owned atoms of a type with a material, in index order, for the
+   per-atom passes of compute().  Under hybrid most atoms may be another
+   sub-style's (water, walls and twins: 1110 of 1294 atoms in
+   examples/fsi_plate at dx 2.5 mm), and the passes over all owned atoms
+   cost an eighth of the solid's share of that run.  The others
+   get no deformation, stress or energy: their rows are cleared here, once
+   per rebuild, as each compute() cleared them before (no sweep writes
+   them: an atom without material has no partners and is no partner)
+------------------------------------------------------------------------- */
+
+void PairSPHICB::collect_solid_atoms()
+{
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  solid_local.clear();
+  solid_ghost.clear();
+  for (int i = 0; i < nlocal; i++) {
+    if (solid_type(type[i])) {
+      solid_local.push_back(i);
+      continue;
+    }
+    for (int a = 0; a < 9; a++) defgrad[i][a] = qstress[i][a] = 0.0;
+    for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
+    pk2[i][NSYMM] = 1.0;
+  }
+  // the ghosts whose positions the kept forces depend on (keep_forces())
+  for (int i = nlocal; i < nall; i++)
+    if (solid_type(type[i])) solid_ghost.push_back(i);
 }
 
 /* ----------------------------------------------------------------------
@@ -496,14 +619,9 @@ void PairSPHICB::require_current_partners(const char *what) const
 
 double PairSPHICB::stress_pass(int i)
 {
-  // an atom of a type without a material (another sub-style's, under
-  // hybrid) has no partners: no deformation, stress or energy
-  if (!solid_type(atom->type[i])) {
-    for (int a = 0; a < 9; a++) qstress[i][a] = 0.0;
-    for (int v = 0; v < NSYMM; v++) pk2[i][v] = 0.0;
-    pk2[i][NSYMM] = 1.0;
-    return 0.0;
-  }
+  // called for the solid atoms only (solid_local): an atom of a type
+  // without a material (another sub-style's, under hybrid) has no
+  // partners, deformation, stress or energy
   double F[3][3];
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) F[a][b] = defgrad[i][3 * a + b];
@@ -727,5 +845,7 @@ void PairSPHICB::forward_comm_array(double **array, int width)
 double PairSPHICB::memory_usage()
 {
   return PairSPHElastic::memory_usage() + (double) nmax_work * (18 + NSYMM + 1) * sizeof(double) +
-      (double) maxlocal * sizeof(int) + sweeps->memory_usage();
+      (double) maxlocal * sizeof(int) +
+      (double) (solid_local.capacity() + solid_ghost.capacity()) * sizeof(int) +
+      (double) (kept_f.capacity() + kept_x.capacity()) * sizeof(double) + sweeps->memory_usage();
 }

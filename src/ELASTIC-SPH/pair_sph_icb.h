@@ -64,6 +64,10 @@ class PairSPHICB : public PairSPHElastic {
   double internal_force_norm() const;
   // send width (<= 9) values per atom of array from owned atoms to ghosts
   void forward_comm_array(double **array, int width);
+  // keep the forces of the next compute(), which starts from zero forces on
+  // the solid atoms, for the compute() after it in the same timestep (what
+  // and when: the .cpp)
+  void keep_forces();
 
  protected:
   int measure;            // stress measure P = R S (corotated) or F S (pk1)
@@ -85,6 +89,14 @@ class PairSPHICB : public PairSPHElastic {
   int nmax_work, maxlocal;
   bigint jlocal_builds;    // neighbor->ncalls when jlocal was filled
   int jlocal_nlocal;
+  std::vector<int> solid_local;    // owned atoms with a material, since that fill
+  std::vector<int> solid_ghost;    // and ghost atoms
+  // the forces kept by keep_forces(): asked for, started from zero, the
+  // timestep they are of (-1 none), per owned solid atom, and the solid
+  // atoms' positions they are of
+  bool keep_next = false, kept_from_zero = false;
+  bigint kept_step = -1;
+  std::vector<double> kept_f, kept_x;
   // found by the last force computation of a minimisation, owned atoms only
   int ninverted;                  // inverted atoms (det F <= 0, mirror atoms aside)
   tagint inverted_id;             // one of them
@@ -105,6 +117,9 @@ class PairSPHICB : public PairSPHElastic {
     return !(atom->mask[i] & mirror_groupbit) && solid_type(atom->type[i]);
   }
   void refresh_partner_indices();
+  void collect_solid_atoms();
+  void keep_forces_now();
+  bool replay_kept_forces(bool tally);
   bool partner_indices_current() const;
   void require_current_partners(const char *what) const;
   void report_missing_partner(int i, int k) const;
