@@ -30,6 +30,7 @@
 #endif
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -73,11 +74,12 @@ struct CooMatrix {
   size_t pattern_size = 0;
   std::vector<PetscInt> rows, cols;    // col <= row
   std::vector<PetscScalar> values;
-  // by row, then column, each once; then the mirror of each off-diagonal one
+  // the whole pattern (lower entries and their mirrors) by row, then column
   std::vector<PetscInt> distinct_rows, distinct_cols;
-  std::vector<size_t> mirror_of;    // mirror -> its distinct lower entry
+  std::vector<size_t> lower_of;     // pattern entry -> its distinct lower entry
+  size_t nlower = 0;                // distinct lower entries
   std::vector<size_t> slot;         // entry -> its distinct lower entry
-  std::vector<PetscScalar> sums;    // per distinct entry, mirrors included
+  std::vector<PetscScalar> sums;    // per pattern entry
 
   // the raw entries' memory goes back too: the preconditioner's setup,
   // which comes next, is the peak of a statics run
@@ -107,7 +109,7 @@ struct CooMatrix {
   {
     std::vector<PetscInt>().swap(distinct_rows);
     std::vector<PetscInt>().swap(distinct_cols);
-    std::vector<size_t>().swap(mirror_of);
+    std::vector<size_t>().swap(lower_of);
     std::vector<size_t>().swap(slot);
     std::vector<PetscScalar>().swap(sums);
     pattern_hash = 0;
@@ -143,32 +145,82 @@ struct CooMatrix {
       std::stable_sort(order.begin() + start[k], order.begin() + start[k + 1], by_column);
     return order;
   }
-  // the distinct (row, col) of the entries, each entry's slot, and the
-  // mirrors of the off-diagonal ones
+  // the distinct (row, col) of the entries, each entry's slot among the
+  // distinct lower ones, and the whole pattern (lower entries and the
+  // mirrors of the off-diagonal ones) in order of (row, column), each
+  // with its lower entry: PETSc sorts what it is given again, and sorted
+  // input spares it the mispredicted branches of a random one
   void find_distinct()
   {
-    distinct_rows.clear();
-    distinct_cols.clear();
+    std::vector<PetscInt> lower_rows, lower_cols;
     slot.assign(rows.size(), 0);
     if (!rows.empty()) {
       for (const size_t e : entries_by_row_and_column()) {
-        if (distinct_rows.empty() || distinct_rows.back() != rows[e] ||
-            distinct_cols.back() != cols[e]) {
-          distinct_rows.push_back(rows[e]);
-          distinct_cols.push_back(cols[e]);
+        if (lower_rows.empty() || lower_rows.back() != rows[e] || lower_cols.back() != cols[e]) {
+          lower_rows.push_back(rows[e]);
+          lower_cols.push_back(cols[e]);
         }
-        slot[e] = distinct_rows.size() - 1;
+        slot[e] = lower_rows.size() - 1;
       }
     }
-    // (kept apart: MatSetPreallocationCOO may change the index arrays)
-    mirror_of.clear();
-    const size_t nlower = distinct_rows.size();
-    for (size_t d = 0; d < nlower; d++)
-      if (distinct_rows[d] != distinct_cols[d]) {
-        distinct_rows.push_back(distinct_cols[d]);
-        distinct_cols.push_back(distinct_rows[d]);
-        mirror_of.push_back(d);
+    nlower = lower_rows.size();
+    order_whole_pattern(lower_rows, lower_cols);
+  }
+  // a row's lower entries (col <= row) come in order of column; its mirror
+  // entries (col > row) come from the rows after it, in their order: a
+  // stable counting sort by row, lower entry before mirror, sorts both.
+  // Rows far apart (distant ranks' rows) take a plain sort instead
+  void order_whole_pattern(const std::vector<PetscInt> &lower_rows,
+                           const std::vector<PetscInt> &lower_cols)
+  {
+    size_t nwhole = 0;
+    PetscInt first = 0, last = -1;
+    for (size_t d = 0; d < nlower; d++) {
+      nwhole += lower_rows[d] == lower_cols[d] ? 1 : 2;
+      if (d == 0 || lower_cols[d] < first) first = lower_cols[d];
+      if (d == 0 || lower_rows[d] > last) last = lower_rows[d];
+    }
+    distinct_rows.assign(nwhole, 0);
+    distinct_cols.assign(nwhole, 0);
+    lower_of.assign(nwhole, 0);
+    if (nwhole == 0) return;
+    const size_t span = static_cast<size_t>(last - first) + 1;
+    auto each_entry = [&](auto &&put) {
+      for (size_t d = 0; d < nlower; d++) {
+        put(lower_rows[d], lower_cols[d], d);
+        if (lower_rows[d] != lower_cols[d]) put(lower_cols[d], lower_rows[d], d);
       }
+    };
+    if (span > 2 * nwhole + 1024) {
+      std::vector<std::array<PetscInt, 2>> entries;
+      std::vector<size_t> from;
+      each_entry([&](PetscInt r, PetscInt c, size_t d) {
+        entries.push_back({r, c});
+        from.push_back(d);
+      });
+      std::vector<size_t> order(nwhole);
+      for (size_t k = 0; k < nwhole; k++) order[k] = k;
+      std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        return entries[a] < entries[b];
+      });
+      for (size_t k = 0; k < nwhole; k++) {
+        distinct_rows[k] = entries[order[k]][0];
+        distinct_cols[k] = entries[order[k]][1];
+        lower_of[k] = from[order[k]];
+      }
+      return;
+    }
+    std::vector<size_t> next(span + 1, 0);
+    each_entry([&](PetscInt r, PetscInt, size_t) {
+      next[r - first + 1]++;
+    });
+    for (size_t k = 0; k < span; k++) next[k + 1] += next[k];
+    each_entry([&](PetscInt r, PetscInt c, size_t d) {
+      const size_t k = next[r - first]++;
+      distinct_rows[k] = r;
+      distinct_cols[k] = c;
+      lower_of[k] = d;
+    });
   }
   // returns true if the matrix (and so its layout) was created afresh
   bool set(MPI_Comm world, PetscInt nlocal, PetscInt n)
@@ -194,10 +246,10 @@ struct CooMatrix {
       pattern_hash = hash;
       pattern_size = rows.size();
     }
-    sums.assign(distinct_rows.size(), 0.0);
-    for (size_t e = 0; e < values.size(); e++) sums[slot[e]] += values[e];
-    const size_t nlower = sums.size() - mirror_of.size();
-    for (size_t m = 0; m < mirror_of.size(); m++) sums[nlower + m] = sums[mirror_of[m]];
+    std::vector<PetscScalar> lower_sums(nlower, 0.0);
+    for (size_t e = 0; e < values.size(); e++) lower_sums[slot[e]] += values[e];
+    sums.resize(lower_of.size());
+    for (size_t k = 0; k < lower_of.size(); k++) sums[k] = lower_sums[lower_of[k]];
     MatSetValuesCOO(M, sums.data(), INSERT_VALUES);
     release();
     return !all_same;
