@@ -256,7 +256,11 @@ void MinSPHNewton::newton_step(double tol)
    the factorised matrix is only the spring part, which can be positive
    definite where the exact Hessian is not (the straight truss beyond
    buckling at hg 0.2): there Lanczos on the exact products, in the metric
-   of the factorisation, looks for a negative eigenvalue.  For the corotated stress the Hessian is
+   of the factorisation, looks for a negative eigenvalue.  So does a
+   matrix-free solve, in its preconditioner's metric: CG meets negative
+   curvature only along the force's Krylov space, which a symmetric body's
+   force keeps clear of an antisymmetric buckling mode unless round-off
+   (and so the preconditioner) puts it there.  For the corotated stress the Hessian is
    only a preconditioner, and its inertia says nothing about stability.
 ------------------------------------------------------------------------- */
 
@@ -264,7 +268,7 @@ bool MinSPHNewton::saddle_point()
 {
   if (!pair->has_energy()) return false;
   if (solver->indefinite()) return true;
-  if (linearisation->hessian_is_exact() || solver->matrix_free()) return false;
+  if (linearisation->hessian_is_exact() && !solver->matrix_free()) return false;
   return operators->negative_curvature();
 }
 

@@ -46,8 +46,9 @@ namespace SPHElastic {
     void newton_step(const std::vector<double> &force, std::vector<double> &step, double tol);
     // z ~ H^-1 v to a loose tolerance (a preconditioner itself)
     void approximate_inverse(const std::vector<double> &v, std::vector<double> &z);
-    // true if Lanczos on the exact products, in K's metric, finds a
-    // negative eigenvalue of H; logs its estimate
+    // true if Lanczos on the exact products, in K's metric (a matrix-free
+    // solver's preconditioner), finds a negative eigenvalue of H; logs its
+    // estimate
     bool negative_curvature();
     LinearMap product_map();
     LinearMap precondition_map();

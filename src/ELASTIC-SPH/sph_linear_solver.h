@@ -56,6 +56,13 @@ namespace SPHElastic {
     // the relative residual at which an iterative solver may stop the
     // solves that follow (an inexact Newton step); a direct one ignores it
     virtual void set_tolerance(double /*relative*/) {}
+    // z = M^-1 v for the metric of a saddle test: M symmetric positive
+    // definite and close to K.  A factorisation is its own; a matrix-free
+    // solver applies its preconditioner once (its solve iterates on K)
+    virtual void apply_preconditioner(const std::vector<double> &v, std::vector<double> &z)
+    {
+      solve(v, z);
+    }
     // true if solve() works on the exact matrix-free products of
     // FreeHessian::product() (K only preconditions it)
     virtual bool matrix_free() const { return false; }

@@ -449,7 +449,13 @@ void PetscLinearSolver::assemble_matrix(const FreeHessian &hessian)
   }
   KSPSetOperators(o.ksp, o.hessian_matrix(), o.assembled.M);
   if (method == MATRIX_FREE) {
-    if (o.compact) set_interpolation(hessian, lattice);
+    // PETSC_OPTIONS may have chosen another preconditioner (-sph_pc_type),
+    // which takes no interpolation
+    PC pc;
+    KSPGetPC(o.ksp, &pc);
+    PetscBool multigrid = PETSC_FALSE;
+    PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCMG, &multigrid);
+    if (o.compact && multigrid) set_interpolation(hessian, lattice);
     o.rebuild_preconditioner = false;
     o.rate_at_build = -1.0;
     nbuild++;
@@ -644,7 +650,16 @@ std::string PetscLinearSolver::summary() const
   if (method == MUMPS)
     return fmt::format("{} MUMPS solves, {} shifted; {}", nsolve, nshifted, times);
   std::string built = fmt::format("{} preconditioner builds", nbuild);
-  if (p->compact)
+  PCType type = nullptr;
+  if (p->ksp) {
+    PC pc;
+    KSPGetPC(p->ksp, &pc);
+    PCGetType(pc, &type);
+  }
+  const bool chosen = type && strcmp(type, p->compact ? PCMG : PCHYPRE) != 0;
+  if (chosen)
+    built += fmt::format(" ({} from PETSC_OPTIONS)", type);
+  else if (p->compact)
     built += fmt::format(" (multigrid on the compact matrix: {} aggregates, {} coarse unknowns)",
                          naggregates, ncoarse);
   else
@@ -697,6 +712,34 @@ void PetscLinearSolver::shift_diagonal(double amount)
    K, CG where K is positive definite, MINRES where it is not.  Otherwise
    the diagonal is shifted until CG's step points downhill.
 ------------------------------------------------------------------------- */
+
+/* ----------------------------------------------------------------------
+   matrix-free: one application of the preconditioner (the multigrid cycle
+   on the compact matrix, or BoomerAMG's on the springs), symmetric and
+   positive definite where CG's needs to be
+------------------------------------------------------------------------- */
+
+void PetscLinearSolver::apply_preconditioner(const std::vector<double> &v, std::vector<double> &z)
+{
+  if (method != MATRIX_FREE) {
+    solve(v, z);
+    return;
+  }
+  Objects &o = *p;
+  PetscScalar *in;
+  VecGetArray(o.rhs, &in);
+  std::copy(v.begin(), v.begin() + nrows, in);
+  VecRestoreArray(o.rhs, &in);
+  PC pc;
+  KSPGetPC(o.ksp, &pc);
+  petsc_check(error, PCApply(pc, o.rhs, o.x), "preconditioner");
+  const PetscScalar *out;
+  VecGetArrayRead(o.x, &out);
+  z.assign(out, out + nrows);
+  VecRestoreArrayRead(o.x, &out);
+}
+
+/* ---------------------------------------------------------------------- */
 
 void PetscLinearSolver::solve(const std::vector<double> &force, std::vector<double> &step)
 {
@@ -799,6 +842,7 @@ void PetscLinearSolver::reset(int, int, int) {}
 void PetscLinearSolver::assemble(const FreeHessian &) {}
 void PetscLinearSolver::set_tolerance(double) {}
 void PetscLinearSolver::solve(const std::vector<double> &, std::vector<double> &) {}
+void PetscLinearSolver::apply_preconditioner(const std::vector<double> &, std::vector<double> &) {}
 std::string PetscLinearSolver::summary() const
 {
   return {};

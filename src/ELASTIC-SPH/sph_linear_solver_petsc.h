@@ -50,6 +50,7 @@ namespace SPHElastic {
     void reset(int nfree, int nrows, int first_row) override;
     void assemble(const FreeHessian &) override;
     void solve(const std::vector<double> &force, std::vector<double> &step) override;
+    void apply_preconditioner(const std::vector<double> &v, std::vector<double> &z) override;
     void set_tolerance(double relative) override;
     bool indefinite() const override { return negative_curvature; }
     bool matrix_free() const override { return method == MATRIX_FREE; }
