@@ -269,7 +269,7 @@ bool MinSPHNewton::saddle_point()
   if (!pair->has_energy()) return false;
   if (solver->indefinite()) return true;
   if (linearisation->hessian_is_exact() && !solver->matrix_free()) return false;
-  return operators->negative_curvature();
+  return operators->negative_curvature(step);
 }
 
 /* ----------------------------------------------------------------------

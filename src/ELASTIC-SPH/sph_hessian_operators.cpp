@@ -37,8 +37,7 @@ constexpr int MAXKRYLOV_APPROXIMATE = 60;
 // the saddle test: Lanczos until the smallest Ritz value settles to
 // LANCZOS_TOL of itself, at most MAXLANCZOS products.  Looser misses a bar
 // just beyond buckling: at 1e-2 the truss at -1.4 kN (hg 0.2) passed as
-// stable; on the 3d beam at 10k atoms (matrix-free) 1e-3 takes 33
-// iterations to the solve's 138, 1e-2 took 17
+// stable
 constexpr double LANCZOS_TOL = 1.0e-3;
 constexpr int MAXLANCZOS = 100;
 
@@ -106,11 +105,12 @@ void HessianOperators::approximate_inverse(const std::vector<double> &v, std::ve
 /* ----------------------------------------------------------------------
    Lanczos on the exact products, in the metric of the factorisation (or
    of the preconditioner), from a random start because the force of a
-   symmetric body has no part along an antisymmetric buckling mode.  A
+   symmetric body has no part along an antisymmetric buckling mode (and
+   so neither has the hint).  A
    positive definite metric keeps the signs of the eigenvalues (Sylvester)
 ------------------------------------------------------------------------- */
 
-bool HessianOperators::negative_curvature()
+bool HessianOperators::negative_curvature(const std::vector<double> &hint)
 {
   // a start fixed by the atoms, whichever rank holds them
   std::vector<double> start;
@@ -120,6 +120,17 @@ bool HessianOperators::negative_curvature()
         return uniform_of(tag[i], a);
       },
       start);
+  // plus the hint (the last Newton step), as long: a loaded body's lowest
+  // modes lie near its deflection, so Lanczos settles sooner (the 3d beam
+  // at 10k atoms, matrix-free: 19 products instead of 33); the random part
+  // keeps the modes the hint has none of
+  const auto &dofs = hessian.free_coordinates();
+  const double hint_norm = hint.size() == start.size() ? std::sqrt(dofs.dot(hint, hint)) : 0.0;
+  if (hint_norm > 0.0) {
+    const double start_norm = std::sqrt(dofs.dot(start, start));
+    for (size_t e = 0; e < start.size(); e++)
+      start[e] = start[e] / start_norm + hint[e] / hint_norm;
+  }
   // the metric: the factorised matrix, or a matrix-free solver's
   // preconditioner (its CG would see negative curvature only along the
   // force, and only where the preconditioner lets it)

@@ -48,8 +48,9 @@ namespace SPHElastic {
     void approximate_inverse(const std::vector<double> &v, std::vector<double> &z);
     // true if Lanczos on the exact products, in K's metric (a matrix-free
     // solver's preconditioner), finds a negative eigenvalue of H; logs its
-    // estimate
-    bool negative_curvature();
+    // estimate.  It starts from a random vector plus the hint (a vector
+    // near the lowest modes, such as the last Newton step), if given
+    bool negative_curvature(const std::vector<double> &hint = {});
     LinearMap product_map();
     LinearMap precondition_map();
 
