@@ -126,7 +126,11 @@ namespace SPHElastic {
     {
       return (double) maxpairs * (2 * sizeof(int) + G3 * sizeof(double)) +
           (double) maxpairs_hg * HG3 * sizeof(double) +
-          (double) (run_atom.capacity() + run_first.capacity()) * sizeof(int);
+          (double) (run_atom.capacity() + run_first.capacity()) * sizeof(int)
+#ifdef LMP_SPH_SWEEPS_VECTOR
+          + (double) columns.capacity() * sizeof(double)
+#endif
+          ;
     }
 
     /* ----------------------------------------------------------------------
@@ -522,17 +526,6 @@ namespace SPHElastic {
       }
     }
 
-    // (M b)_a of a block M (lanes A, B, C) and b (its cycles bA and bB, and
-    // b2), in the order of the scalar loops: (m_a0 b_0 + m_a1 b_1) + m_a2 b_2
-#define LMP_SPH_ROW_SUMS(out, mA, mB, mC, bA, bB, b2)                                             \
-  do {                                                                                            \
-    const v4d PA_ = (mA) * (bA), PB_ = (mB) * (bB);                                               \
-    v4d third_ = LMP_SPH_SHUFFLE(PA_, PB_, 2, 5, 5, 5);                                           \
-    third_[2] = (mC) * (b2);                                                                      \
-    out =                                                                                         \
-        (LMP_SPH_SHUFFLE(PA_, PB_, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA_, PB_, 1, 4, 7, 7)) + third_; \
-  } while (0)
-
     // divergence_into<3> on vectors, compiled for AVX2
     template <bool ALL, typename Row>
     LMP_SPH_AVX2 void divergence_into_3d_avx2(int nlocal, const double *const *q, double sign,
@@ -546,21 +539,23 @@ namespace SPHElastic {
       const int *const rfirst = run_first.data();
       const int np = npairs;
       const __m256i m3 = LMP_SPH_MASK3;
+      // Q g as the sum of Q's columns times the components of g
+      const double *const qt = by_columns(nlocal, q);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int last = r + 1 < nruns ? rfirst[r + 1] : np;
         double *const ri = row(i);
-        const v4d QiA = LMP_SPH_LOAD4(q[i]), QiB = LMP_SPH_LOAD4(q[i] + 4);
-        const double QiC = q[i][8];
+        const double *const Qti = &qt[12 * (size_t) i];
+        const v4d Qi0 = LMP_SPH_LOAD4(Qti), Qi1 = LMP_SPH_LOAD4(Qti + 4);
+        const v4d Qi2 = LMP_SPH_LOAD4(Qti + 8);
         v4d fi = LMP_SPH_LOAD3(ri, m3);
         for (int p = rfirst[r]; p < last; p++) {
           const int j = atoms[2 * p + 1];
           const double *g = &gs[(bigint) p * G3];
-          const double *Qj = q[j];
-          v4d qi, qj;
-          LMP_SPH_ROW_SUMS(qi, QiA, QiB, QiC, LMP_SPH_LOAD4(g), LMP_SPH_LOAD4(g + 1), g[2]);
-          LMP_SPH_ROW_SUMS(qj, LMP_SPH_LOAD4(Qj), LMP_SPH_LOAD4(Qj + 4), Qj[8],
-                           LMP_SPH_LOAD4(g + 5), LMP_SPH_LOAD4(g + 6), g[7]);
+          const double *Qtj = &qt[12 * (size_t) j];
+          const v4d qi = (Qi0 * g[0] + Qi1 * g[1]) + Qi2 * g[2];
+          const v4d qj = (LMP_SPH_LOAD4(Qtj) * g[5] + LMP_SPH_LOAD4(Qtj + 4) * g[6]) +
+              LMP_SPH_LOAD4(Qtj + 8) * g[7];
           const v4d fij = sign * (qi - qj);
           fi += fij;
           if (ALL || (!directed_copy && j < nlocal)) {
@@ -573,10 +568,10 @@ namespace SPHElastic {
     }
 
     /* ----------------------------------------------------------------------
-       hourglass_into in 3d on vectors: G_i + G_j, the outer product
-       half_kd (x) X and the updates of Q are two vector operations and a
-       scalar each.  Q_i is summed over the run in registers, in the pair
-       order of the scalar code's second pass
+       hourglass_into in 3d on vectors: (G_i + G_j) X by the columns of G
+       (by_columns), the outer product half_kd (x) X and the updates of Q
+       two vector operations and a scalar each.  Q_i is summed over the run
+       in registers, in the pair order of the scalar code's second pass
     ------------------------------------------------------------------------- */
 
     template <int SIGN, bool ENERGY, bool ALL, typename Row>
@@ -592,14 +587,17 @@ namespace SPHElastic {
       const int *const rfirst = run_first.data();
       const int np = npairs;
       const __m256i m3 = LMP_SPH_MASK3;
+      // (G_i + G_j) X as the sum of the columns times the components of X
+      const double *const gt = by_columns(nlocal, grad);
       double energy_sum = 0.0;
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int first = rfirst[r], last = r + 1 < nruns ? rfirst[r + 1] : np;
         double *const ri = row(i);
         const v4d ui = LMP_SPH_LOAD3(u[i], m3);
-        const v4d giA = LMP_SPH_LOAD4(grad[i]), giB = LMP_SPH_LOAD4(grad[i] + 4);
-        const double giC = grad[i][8];
+        const double *const Gti = &gt[12 * (size_t) i];
+        const v4d gi0 = LMP_SPH_LOAD4(Gti), gi1 = LMP_SPH_LOAD4(Gti + 4);
+        const v4d gi2 = LMP_SPH_LOAD4(Gti + 8);
         v4d qiA = LMP_SPH_LOAD4(q[i]), qiB = LMP_SPH_LOAD4(q[i] + 4);
         double qiC = q[i][8];
         v4d fi = LMP_SPH_LOAD3(ri, m3);
@@ -611,14 +609,11 @@ namespace SPHElastic {
           const v4d XA = LMP_SPH_LOAD4(hg + 1);    // X0 X1 X2 X0
           const v4d XB = LMP_SPH_LOAD4(hg + 2);    // X1 X2 X0 X1
           const double X2 = hg[3];
-          const double *Gj = grad[j];
-          // (G_i + G_j) X: the products, then their sums along each row
-          const v4d PA = (giA + LMP_SPH_LOAD4(Gj)) * XA;
-          const v4d PB = (giB + LMP_SPH_LOAD4(Gj + 4)) * XB;
-          v4d third = LMP_SPH_SHUFFLE(PA, PB, 2, 5, 5, 5);
-          third[2] = (giC + Gj[8]) * X2;
+          // (G_i + G_j) X by columns
+          const double *Gtj = &gt[12 * (size_t) j];
           const v4d gx =
-              (LMP_SPH_SHUFFLE(PA, PB, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA, PB, 1, 4, 7, 7)) + third;
+              ((gi0 + LMP_SPH_LOAD4(Gtj)) * hg[1] + (gi1 + LMP_SPH_LOAD4(Gtj + 4)) * hg[2]) +
+              (gi2 + LMP_SPH_LOAD4(Gtj + 8)) * X2;
           const v4d d = (LMP_SPH_LOAD3(u[j], m3) - ui) - 0.5 * gx;
           const v4d half_kd = (0.5 * kij) * d;
           const v4d QA = LMP_SPH_SPREAD_A(half_kd) * XA;
@@ -650,6 +645,31 @@ namespace SPHElastic {
         q[i][8] = qiC;
       }
       return energy_sum;
+    }
+
+    /* ----------------------------------------------------------------------
+       the 3x3 blocks m (row-major) of every atom a pair reads, by columns,
+       each padded to four lanes (12 doubles per atom): M b is then the sum
+       of M's columns times the components of b, no shuffles, in the order
+       of the scalar loops ((m_a0 b_0 + m_a1 b_1) + m_a2 b_2).  Into the
+       work space columns, valid until the next call
+    ------------------------------------------------------------------------- */
+
+    const double *by_columns(int nlocal, const double *const *m) const
+    {
+      const int n = max_j + 1 > nlocal ? max_j + 1 : nlocal;
+      if (columns.size() < 12 * (size_t) n) columns.resize(12 * (size_t) n);
+      for (int k = 0; k < n; k++) {
+        const double *M = m[k];
+        double *t = &columns[12 * (size_t) k];
+        for (int b = 0; b < 3; b++) {
+          t[4 * b] = M[b];
+          t[4 * b + 1] = M[3 + b];
+          t[4 * b + 2] = M[6 + b];
+          t[4 * b + 3] = 0.0;
+        }
+      }
+      return columns.data();
     }
 #endif
     // whether every pair adds to both atoms (see ALL above)
@@ -694,6 +714,10 @@ namespace SPHElastic {
     double *pair_hg = nullptr;     // k_ij / alpha then X_ij of each pair (hg_stride doubles)
     std::vector<int> run_atom;     // the atom i of each run of consecutive pairs
     std::vector<int> run_first;    // and its first pair
+#ifdef LMP_SPH_SWEEPS_VECTOR
+    // work space of divergence_into_3d_avx2: Q of each atom by columns
+    mutable std::vector<double> columns;
+#endif
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
