@@ -105,7 +105,7 @@ namespace SPHElastic {
         for (int a = 0; a < 2; a++) hg[4 + a] = X[a];
     }
     bool is_directed() const { return directed; }
-    // whether the 3d sweeps run their AVX2 versions
+    // whether the sweeps run their AVX2 versions
     bool uses_avx2() const
     {
 #ifdef LMP_SPH_SWEEPS_VECTOR
@@ -148,6 +148,13 @@ namespace SPHElastic {
           gradients_3d_avx2<true>(nlocal, field, grad);
         else
           gradients_3d_avx2<false>(nlocal, field, grad);
+        return;
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all)
+          gradients_2d_avx2<true>(nlocal, field, grad);
+        else
+          gradients_2d_avx2<false>(nlocal, field, grad);
         return;
       }
 #endif
@@ -203,6 +210,13 @@ namespace SPHElastic {
           divergence_into_3d_avx2<true>(nlocal, q, sign, row);
         else
           divergence_into_3d_avx2<false>(nlocal, q, sign, row);
+        return;
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all)
+          divergence_into_2d_avx2<true>(nlocal, q, sign, row);
+        else
+          divergence_into_2d_avx2<false>(nlocal, q, sign, row);
         return;
       }
 #endif
@@ -274,6 +288,10 @@ namespace SPHElastic {
       if (DIM == 3 && has_avx2) {
         if (all) return hourglass_into_3d_avx2<SIGN, ENERGY, true>(nlocal, alpha, u, grad, q, row);
         return hourglass_into_3d_avx2<SIGN, ENERGY, false>(nlocal, alpha, u, grad, q, row);
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all) return hourglass_into_2d_avx2<SIGN, ENERGY, true>(nlocal, alpha, u, grad, q, row);
+        return hourglass_into_2d_avx2<SIGN, ENERGY, false>(nlocal, alpha, u, grad, q, row);
       }
 #endif
       if (all)
@@ -567,6 +585,149 @@ namespace SPHElastic {
       }
     }
 
+    // two doubles (v2d), and the same read or written at any address (v2du)
+    typedef double v2d __attribute__((vector_size(16)));
+    typedef double v2du __attribute__((vector_size(16), aligned(8), may_alias));
+#define LMP_SPH_LOAD2(p) (*reinterpret_cast<const v2du *>(p))
+#define LMP_SPH_STORE2(p, v) (*reinterpret_cast<v2du *>(p) = (v))
+
+    // gradients<2> on pairs of doubles, compiled for AVX2: each row of the
+    // 2x2 block d (x) g is d_a times g
+    template <bool ALL>
+    LMP_SPH_AVX2 void gradients_2d_avx2(int nlocal, const double *const *field,
+                                        double *const *grad) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *Gi = grad[i];
+        const v2d ui = LMP_SPH_LOAD2(field[i]);
+        v2d sum0 = LMP_SPH_LOAD2(Gi), sum1 = LMP_SPH_LOAD2(Gi + 3);
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * 4];
+          const v2d d = LMP_SPH_LOAD2(field[j]) - ui;
+          sum0 += d[0] * LMP_SPH_LOAD2(g);
+          sum1 += d[1] * LMP_SPH_LOAD2(g);
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *Gj = grad[j];
+            LMP_SPH_STORE2(Gj, LMP_SPH_LOAD2(Gj) - d[0] * LMP_SPH_LOAD2(g + 2));
+            LMP_SPH_STORE2(Gj + 3, LMP_SPH_LOAD2(Gj + 3) - d[1] * LMP_SPH_LOAD2(g + 2));
+          }
+        }
+        LMP_SPH_STORE2(Gi, sum0);
+        LMP_SPH_STORE2(Gi + 3, sum1);
+      }
+    }
+
+    // divergence_into<2> on pairs of doubles, compiled for AVX2: the 2x2
+    // blocks of Q by columns (by_columns_2d), Q g = c0 g0 + c1 g1
+    template <bool ALL, typename Row>
+    LMP_SPH_AVX2 void divergence_into_2d_avx2(int nlocal, const double *const *q, double sign,
+                                              Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const double *const qt = by_columns_2d(nlocal, q);
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *const ri = row(i);
+        const v2d Qi0 = LMP_SPH_LOAD2(&qt[4 * (size_t) i]);
+        const v2d Qi1 = LMP_SPH_LOAD2(&qt[4 * (size_t) i + 2]);
+        v2d fi = LMP_SPH_LOAD2(ri);
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * 4];
+          const double *Qtj = &qt[4 * (size_t) j];
+          const v2d qi = Qi0 * g[0] + Qi1 * g[1];
+          const v2d qj = LMP_SPH_LOAD2(Qtj) * g[2] + LMP_SPH_LOAD2(Qtj + 2) * g[3];
+          const v2d fij = sign * (qi - qj);
+          fi += fij;
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *const rj = row(j);
+            LMP_SPH_STORE2(rj, LMP_SPH_LOAD2(rj) - fij);
+          }
+        }
+        LMP_SPH_STORE2(ri, fi);
+      }
+    }
+
+    // hourglass_into<2> on pairs of doubles, compiled for AVX2: (G_i + G_j)
+    // X by the columns of G (by_columns_2d), Q's rows updated as rows
+    template <int SIGN, bool ENERGY, bool ALL, typename Row>
+    LMP_SPH_AVX2 double hourglass_into_2d_avx2(int nlocal, double alpha, const double *const *u,
+                                               const double *const *grad, double *const *q,
+                                               Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const hgs = pair_hg;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const double *const gt = by_columns_2d(nlocal, grad);
+      double energy_sum = 0.0;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int first = rfirst[r], last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *const ri = row(i);
+        double *const Qi = q[i];
+        const v2d ui = LMP_SPH_LOAD2(u[i]);
+        const v2d gi0 = LMP_SPH_LOAD2(&gt[4 * (size_t) i]);
+        const v2d gi1 = LMP_SPH_LOAD2(&gt[4 * (size_t) i + 2]);
+        v2d qi0 = LMP_SPH_LOAD2(Qi), qi1 = LMP_SPH_LOAD2(Qi + 3);
+        v2d fi = LMP_SPH_LOAD2(ri);
+        for (int p = first; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          // k_ij / alpha, X_0, X_1
+          const double *hg = &hgs[(bigint) p * 3];
+          const double kij = alpha * hg[0];
+          const v2d X = LMP_SPH_LOAD2(hg + 1);
+          const double *Gtj = &gt[4 * (size_t) j];
+          const v2d gx =
+              (gi0 + LMP_SPH_LOAD2(Gtj)) * hg[1] + (gi1 + LMP_SPH_LOAD2(Gtj + 2)) * hg[2];
+          const v2d d = (LMP_SPH_LOAD2(u[j]) - ui) - 0.5 * gx;
+          const v2d half_kd = (0.5 * kij) * d;
+          const v2d Q0 = half_kd[0] * X, Q1 = half_kd[1] * X;
+          qi0 -= Q0;
+          qi1 -= Q1;
+          const v2d kd = kij * d;
+          const bool both = ALL || (!directed_copy && j < nlocal);
+          if (ENERGY) {
+            const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + 0.0 * 0.0);
+            energy_sum += both ? 2.0 * e : e;
+          }
+          // (-1) * x is exact: the same sums as fi - x and rj + x
+          fi += static_cast<double>(SIGN) * kd;
+          if (both) {
+            double *qj = q[j];
+            LMP_SPH_STORE2(qj, LMP_SPH_LOAD2(qj) - Q0);
+            LMP_SPH_STORE2(qj + 3, LMP_SPH_LOAD2(qj + 3) - Q1);
+            double *const rj = row(j);
+            LMP_SPH_STORE2(rj, LMP_SPH_LOAD2(rj) - static_cast<double>(SIGN) * kd);
+          }
+        }
+        LMP_SPH_STORE2(ri, fi);
+        LMP_SPH_STORE2(Qi, qi0);
+        LMP_SPH_STORE2(Qi + 3, qi1);
+      }
+      return energy_sum;
+    }
+
     /* ----------------------------------------------------------------------
        hourglass_into in 3d on vectors: (G_i + G_j) X by the columns of G
        (by_columns), the outer product half_kd (x) X and the updates of Q
@@ -668,6 +829,22 @@ namespace SPHElastic {
           t[4 * b + 2] = M[6 + b];
           t[4 * b + 3] = 0.0;
         }
+      }
+      return columns.data();
+    }
+    // the same for the 2x2 blocks of 2d (row-major in the 3x3 rows):
+    // (m00 m10 m01 m11), 4 doubles per atom
+    const double *by_columns_2d(int nlocal, const double *const *m) const
+    {
+      const int n = max_j + 1 > nlocal ? max_j + 1 : nlocal;
+      if (columns.size() < 4 * (size_t) n) columns.resize(4 * (size_t) n);
+      for (int k = 0; k < n; k++) {
+        const double *M = m[k];
+        double *t = &columns[4 * (size_t) k];
+        t[0] = M[0];
+        t[1] = M[3];
+        t[2] = M[1];
+        t[3] = M[4];
       }
       return columns.data();
     }
