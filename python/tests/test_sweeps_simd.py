@@ -1,4 +1,4 @@
-"""The 3d sweeps of pair sph/icb have AVX2 versions, chosen at run time
+"""The sweeps of pair sph/icb have AVX2 versions, chosen at run time
 when the CPU has AVX2 (LAMMPS_SPH_NO_AVX2 in the environment turns them
 off).  They do each lane's arithmetic in the scalar loops' order, without
 fused multiply-adds, so they must give the same bits as the scalar loops:
@@ -21,16 +21,20 @@ pytestmark = pytest.mark.skipif(
 DX = 1.0e-3
 
 
-def block_script(cells: int, hourglass: float) -> str:
-    """A periodic cube of cells^3 particles, jiggled by 5 % of the spacing
-    and given random velocities; thermo at every step asks for the energy
-    and the virial (the sweeps' tallying paths) besides the force-only ones."""
-    return sph_header(f"0 {cells} 0 {cells} 0 {cells}", DX, dim=3, boundary="p p p") + f"""
+def block_script(cells: int, hourglass: float, dim: int = 3, boundary: str = "p p p") -> str:
+    """A periodic cube of cells^3 particles (a square of cells^2 in 2d; with
+    boundary "s s s" or "s s p" a free block, where every pair is owned at
+    both ends), jiggled by 5 % of the spacing and given random velocities;
+    thermo at every step asks for the energy and the virial (the sweeps'
+    tallying paths) besides the force-only ones."""
+    box = f"0 {cells} 0 {cells}" + (f" 0 {cells}" if dim == 3 else "")
+    dz = 0.05 * DX if dim == 3 else 0.0
+    return sph_header(box, DX, dim=dim, boundary=boundary) + f"""
         create_atoms 1 box
         set group all mol 1
-        set group all volume {DX ** 3}
-        set group all mass {1000 * DX ** 3}
-        displace_atoms all random {0.05 * DX} {0.05 * DX} {0.05 * DX} 8123 units box
+        set group all volume {DX ** dim}
+        set group all mass {1000 * DX ** dim}
+        displace_atoms all random {0.05 * DX} {0.05 * DX} {dz} 8123 units box
         velocity all create 1e19 4928459 loop geom
         pair_style sph/icb {1.2 * DX} hourglass {hourglass}
         pair_coeff * * 1e9 0.3
@@ -43,7 +47,7 @@ def block_script(cells: int, hourglass: float) -> str:
     """
 
 
-def final_state(script: str, scalar: bool, log: Path, extra: str = "") -> dict:
+def final_state(script: str, scalar: bool, log: Path, extra: str = "", dim: int = 3) -> dict:
     """x, v, f by atom ID and the potential energy after the script, with the
     AVX2 sweeps (scalar False) or without them; the log tells which ran"""
     if scalar:
@@ -59,7 +63,7 @@ def final_state(script: str, scalar: bool, log: Path, extra: str = "") -> dict:
     finally:
         os.environ.pop("LAMMPS_SPH_NO_AVX2", None)
     said = log.read_text(encoding="utf-8")
-    assert ("the 3d sweeps run scalar" if scalar else "the 3d sweeps run on AVX2") in said
+    assert (f"the {dim}d sweeps run scalar" if scalar else f"the {dim}d sweeps run on AVX2") in said
     return state
 
 
@@ -69,16 +73,19 @@ def assert_same_bits(a: dict, b: dict):
     assert a["pe"] == b["pe"]
 
 
+@pytest.mark.parametrize("dim,boundary", [(3, "p p p"), (3, "s s s"), (2, "p p p"),
+                                          (2, "s s p")])
 @pytest.mark.parametrize("hourglass", [0.0, 0.2])
-def test_dynamics_identical_with_and_without_avx2(tmp_path, hourglass):
-    script = block_script(6, hourglass)
-    scalar = final_state(script, True, tmp_path / "scalar.log")
-    vector = final_state(script, False, tmp_path / "avx2.log")
+def test_dynamics_identical_with_and_without_avx2(tmp_path, hourglass, dim, boundary):
+    script = block_script(6 if dim == 3 else 12, hourglass, dim, boundary)
+    scalar = final_state(script, True, tmp_path / "scalar.log", dim=dim)
+    vector = final_state(script, False, tmp_path / "avx2.log", dim=dim)
     assert np.abs(scalar["f"]).max() > 0.0
     assert_same_bits(scalar, vector)
 
 
-def test_newton_statics_identical_with_and_without_avx2(tmp_path):
+@pytest.mark.parametrize("dim", [3, 2])
+def test_newton_statics_identical_with_and_without_avx2(tmp_path, dim):
     # the linearisation's Hessian products run the same sweeps
     statics = """
         velocity all set 0.0 0.0 0.0
@@ -88,8 +95,8 @@ def test_newton_statics_identical_with_and_without_avx2(tmp_path):
         min_style sph/newton
         minimize 0 1e-8 50 500
     """
-    script = block_script(5, 0.2)
-    scalar = final_state(script, True, tmp_path / "scalar.log", statics)
-    vector = final_state(script, False, tmp_path / "avx2.log", statics)
+    script = block_script(5 if dim == 3 else 10, 0.2, dim)
+    scalar = final_state(script, True, tmp_path / "scalar.log", statics, dim)
+    vector = final_state(script, False, tmp_path / "avx2.log", statics, dim)
     assert scalar["pe"] > 0.0
     assert_same_bits(scalar, vector)

@@ -182,8 +182,8 @@ void PairSPHICB::init_style()
   if (modify->get_fix_by_style("^SPH_MINIMIZE_CHECK$").empty())
     modify->add_fix("SPH_MINIMIZE_CHECK all SPH_MINIMIZE_CHECK");
 
-  if (domain->dimension == 3 && comm->me == 0 && !simd_announced) {
-    utils::logmesg(lmp, "Pair style sph/icb: the 3d sweeps run {}\n",
+  if (comm->me == 0 && !simd_announced) {
+    utils::logmesg(lmp, "Pair style sph/icb: the {}d sweeps run {}\n", domain->dimension,
                    sweeps->uses_avx2()
                        ? "on AVX2 (set LAMMPS_SPH_NO_AVX2 for the scalar loops)"
                        : "scalar (no AVX2 in this CPU or build, or LAMMPS_SPH_NO_AVX2 is set)");

@@ -39,14 +39,15 @@ void PairSweeps::reserve(bigint bound, bool hourglass)
     memory->destroy(pair_atoms);
     memory->destroy(pair_g);
     memory->create(pair_atoms, 2 * maxpairs, "pair:pair_atoms");
-    memory->create(pair_g, 6 * (bigint) maxpairs, "pair:pair_g");
+    memory->create(pair_g, G3 * (bigint) maxpairs, "pair:pair_g");
   }
   if (hourglass && bound > maxpairs_hg) {
     maxpairs_hg = static_cast<int>(bound);
     memory->destroy(pair_hg);
-    memory->create(pair_hg, 4 * (bigint) maxpairs_hg, "pair:pair_hg");
+    memory->create(pair_hg, HG3 * (bigint) maxpairs_hg, "pair:pair_hg");
   }
   npairs = 0;
+  max_j = -1;
   run_atom.clear();
   run_first.clear();
 }

@@ -28,6 +28,7 @@
 #define LMP_SPH_SWEEPS_VECTOR 1
 #define LMP_SPH_AVX2 __attribute__((target("avx2")))
 #define LMP_SPH_SHUFFLE(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#include <immintrin.h>
 #endif
 
 namespace LAMMPS_NS {
@@ -63,6 +64,7 @@ namespace SPHElastic {
     void clear(bool directed_pairs)
     {
       npairs = 0;
+      max_j = -1;
       run_atom.clear();
       run_first.clear();
       directed = directed_pairs;
@@ -77,21 +79,33 @@ namespace SPHElastic {
       }
       pair_atoms[2 * npairs] = i;
       pair_atoms[2 * npairs + 1] = j;
-      double *g = &pair_g[(bigint) npairs * 2 * dim];
+      if (j > max_j) max_j = j;
+      double *g = &pair_g[(bigint) npairs * g_stride(dim)];
+      const int gji_at = g_stride(dim) / 2;
       for (int a = 0; a < dim; a++) {
         g[a] = gij[a];
-        g[dim + a] = gji[a];
+        g[gji_at + a] = gji[a];
       }
+      // in 3d each vector is followed by its first two components again
+      // (b0 b1 b2 b0 b1): its cycles (b0 b1 b2 b0) and (b1 b2 b0 b1), which
+      // the vector sweeps multiply by, are then plain loads
+      if (dim == 3)
+        for (int a = 0; a < 2; a++) {
+          g[3 + a] = gij[a];
+          g[gji_at + 3 + a] = gji[a];
+        }
       npairs++;
     }
     void add_hourglass(int dim, double stiffness, const double *X)
     {
-      double *hg = &pair_hg[(bigint) (npairs - 1) * (1 + dim)];
+      double *hg = &pair_hg[(bigint) (npairs - 1) * hg_stride(dim)];
       hg[0] = stiffness;
       for (int a = 0; a < dim; a++) hg[1 + a] = X[a];
+      if (dim == 3)
+        for (int a = 0; a < 2; a++) hg[4 + a] = X[a];
     }
     bool is_directed() const { return directed; }
-    // whether the 3d sweeps run their AVX2 versions
+    // whether the sweeps run their AVX2 versions
     bool uses_avx2() const
     {
 #ifdef LMP_SPH_SWEEPS_VECTOR
@@ -110,9 +124,13 @@ namespace SPHElastic {
     }
     double memory_usage() const
     {
-      return (double) maxpairs * (2 * sizeof(int) + 6 * sizeof(double)) +
-          (double) maxpairs_hg * 4 * sizeof(double) +
-          (double) (run_atom.capacity() + run_first.capacity()) * sizeof(int);
+      return (double) maxpairs * (2 * sizeof(int) + G3 * sizeof(double)) +
+          (double) maxpairs_hg * HG3 * sizeof(double) +
+          (double) (run_atom.capacity() + run_first.capacity()) * sizeof(int)
+#ifdef LMP_SPH_SWEEPS_VECTOR
+          + (double) columns.capacity() * sizeof(double)
+#endif
+          ;
     }
 
     /* ----------------------------------------------------------------------
@@ -123,39 +141,27 @@ namespace SPHElastic {
     template <int DIM>
     void gradients(int nlocal, const double *const *field, double *const *grad) const
     {
+      const bool all = every_pair_both(nlocal);
 #ifdef LMP_SPH_SWEEPS_VECTOR
       if (DIM == 3 && has_avx2) {
-        gradients_3d_avx2(nlocal, field, grad);
+        if (all)
+          gradients_3d_avx2<true>(nlocal, field, grad);
+        else
+          gradients_3d_avx2<false>(nlocal, field, grad);
+        return;
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all)
+          gradients_2d_avx2<true>(nlocal, field, grad);
+        else
+          gradients_2d_avx2<false>(nlocal, field, grad);
         return;
       }
 #endif
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
-        double *Gi = grad[i];
-        double sum[DIM][DIM], ui[DIM];
-        for (int a = 0; a < DIM; a++) {
-          ui[a] = field[i][a];
-          for (int b = 0; b < DIM; b++) sum[a][b] = Gi[3 * a + b];
-        }
-        for (int p = run_first[r]; p < run_end(r); p++) {
-          const int j = pair_atoms[2 * p + 1];
-          double gij[DIM], gji[DIM], d[DIM];
-          load_gradients<DIM>(p, gij, gji);
-          const double *uj = field[j];
-          for (int a = 0; a < DIM; a++) d[a] = uj[a] - ui[a];
-          for (int a = 0; a < DIM; a++)
-            for (int b = 0; b < DIM; b++) sum[a][b] += d[a] * gij[b];
-          if (!directed_copy && j < nlocal) {
-            double *Gj = grad[j];
-            for (int a = 0; a < DIM; a++)
-              for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
-          }
-        }
-        for (int a = 0; a < DIM; a++)
-          for (int b = 0; b < DIM; b++) Gi[3 * a + b] = sum[a][b];
-      }
+      if (all)
+        gradients_scalar<DIM, true>(nlocal, field, grad);
+      else
+        gradients_scalar<DIM, false>(nlocal, field, grad);
     }
 
     /* ----------------------------------------------------------------------
@@ -172,7 +178,7 @@ namespace SPHElastic {
       for (int p = 0; p < npairs; p++) {
         const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
         double gij[DIM], gji[DIM];
-        load_gradients<DIM>(p, gij, gji);
+        load_gradients<DIM>(pair_g, p, gij, gji);
         const double *Qi = q[i];
         const double *Qj = q[j];
         double fij[3] = {0.0, 0.0, 0.0};
@@ -197,43 +203,27 @@ namespace SPHElastic {
     template <int DIM, typename Row>
     void divergence_into(int nlocal, const double *const *q, double sign, Row row) const
     {
+      const bool all = every_pair_both(nlocal);
 #ifdef LMP_SPH_SWEEPS_VECTOR
       if (DIM == 3 && has_avx2) {
-        divergence_into_3d_avx2(nlocal, q, sign, row);
+        if (all)
+          divergence_into_3d_avx2<true>(nlocal, q, sign, row);
+        else
+          divergence_into_3d_avx2<false>(nlocal, q, sign, row);
+        return;
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all)
+          divergence_into_2d_avx2<true>(nlocal, q, sign, row);
+        else
+          divergence_into_2d_avx2<false>(nlocal, q, sign, row);
         return;
       }
 #endif
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
-        double Qi[DIM][DIM], fi[DIM];
-        double *const ri = row(i);
-        for (int a = 0; a < DIM; a++) {
-          fi[a] = ri[a];
-          for (int b = 0; b < DIM; b++) Qi[a][b] = q[i][3 * a + b];
-        }
-        for (int p = run_first[r]; p < run_end(r); p++) {
-          const int j = pair_atoms[2 * p + 1];
-          double gij[DIM], gji[DIM], fij[DIM];
-          load_gradients<DIM>(p, gij, gji);
-          const double *Qj = q[j];
-          for (int a = 0; a < DIM; a++) {
-            double qi = 0.0, qj = 0.0;
-            for (int b = 0; b < DIM; b++) {
-              qi += Qi[a][b] * gij[b];
-              qj += Qj[3 * a + b] * gji[b];
-            }
-            fij[a] = sign * (qi - qj);
-            fi[a] += fij[a];
-          }
-          if (!directed_copy && j < nlocal) {
-            double *const rj = row(j);
-            for (int a = 0; a < DIM; a++) rj[a] -= fij[a];
-          }
-        }
-        for (int a = 0; a < DIM; a++) ri[a] = fi[a];
-      }
+      if (all)
+        divergence_into_scalar<DIM, true>(nlocal, q, sign, row);
+      else
+        divergence_into_scalar<DIM, false>(nlocal, q, sign, row);
     }
 
     /* ----------------------------------------------------------------------
@@ -254,7 +244,7 @@ namespace SPHElastic {
       const bool directed_copy = directed;
       for (int p = 0; p < npairs; p++) {
         const int i = pair_atoms[2 * p], j = pair_atoms[2 * p + 1];
-        const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+        const double *hg = &pair_hg[(bigint) p * hg_stride(DIM)];
         const double kij = alpha * hg[0];
         double X[DIM];
         for (int b = 0; b < DIM; b++) X[b] = hg[1 + b];
@@ -293,12 +283,122 @@ namespace SPHElastic {
     double hourglass_into(int nlocal, double alpha, const double *const *u,
                           const double *const *grad, double *const *q, Row row) const
     {
+      const bool all = every_pair_both(nlocal);
 #ifdef LMP_SPH_SWEEPS_VECTOR
-      if (DIM == 3 && has_avx2)
-        return hourglass_into_3d_avx2<SIGN, ENERGY>(nlocal, alpha, u, grad, q, row);
+      if (DIM == 3 && has_avx2) {
+        if (all) return hourglass_into_3d_avx2<SIGN, ENERGY, true>(nlocal, alpha, u, grad, q, row);
+        return hourglass_into_3d_avx2<SIGN, ENERGY, false>(nlocal, alpha, u, grad, q, row);
+      }
+      if (DIM == 2 && has_avx2) {
+        if (all) return hourglass_into_2d_avx2<SIGN, ENERGY, true>(nlocal, alpha, u, grad, q, row);
+        return hourglass_into_2d_avx2<SIGN, ENERGY, false>(nlocal, alpha, u, grad, q, row);
+      }
 #endif
+      if (all)
+        return hourglass_into_scalar<DIM, SIGN, ENERGY, true>(nlocal, alpha, u, grad, q, row);
+      return hourglass_into_scalar<DIM, SIGN, ENERGY, false>(nlocal, alpha, u, grad, q, row);
+    }
+
+   private:
+    /* ----------------------------------------------------------------------
+       The loops over runs.  ALL: every pair is both atoms' (pairs not
+       directed, every j owned: one rank without periodic images), so the
+       loops need not ask per pair.  The pair arrays and the run bounds are
+       read through local copies: the compiler must otherwise reload the
+       members after every store through a double*, which might alias them
+    ------------------------------------------------------------------------- */
+
+    template <int DIM, bool ALL>
+    void gradients_scalar(int nlocal, const double *const *field, double *const *grad) const
+    {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *Gi = grad[i];
+        double sum[DIM][DIM], ui[DIM];
+        for (int a = 0; a < DIM; a++) {
+          ui[a] = field[i][a];
+          for (int b = 0; b < DIM; b++) sum[a][b] = Gi[3 * a + b];
+        }
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          double gij[DIM], gji[DIM], d[DIM];
+          load_gradients<DIM>(gs, p, gij, gji);
+          const double *uj = field[j];
+          for (int a = 0; a < DIM; a++) d[a] = uj[a] - ui[a];
+          for (int a = 0; a < DIM; a++)
+            for (int b = 0; b < DIM; b++) sum[a][b] += d[a] * gij[b];
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *Gj = grad[j];
+            for (int a = 0; a < DIM; a++)
+              for (int b = 0; b < DIM; b++) Gj[3 * a + b] -= d[a] * gji[b];
+          }
+        }
+        for (int a = 0; a < DIM; a++)
+          for (int b = 0; b < DIM; b++) Gi[3 * a + b] = sum[a][b];
+      }
+    }
+
+    template <int DIM, bool ALL, typename Row>
+    void divergence_into_scalar(int nlocal, const double *const *q, double sign, Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double Qi[DIM][DIM], fi[DIM];
+        double *const ri = row(i);
+        for (int a = 0; a < DIM; a++) {
+          fi[a] = ri[a];
+          for (int b = 0; b < DIM; b++) Qi[a][b] = q[i][3 * a + b];
+        }
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          double gij[DIM], gji[DIM], fij[DIM];
+          load_gradients<DIM>(gs, p, gij, gji);
+          const double *Qj = q[j];
+          for (int a = 0; a < DIM; a++) {
+            double qi = 0.0, qj = 0.0;
+            for (int b = 0; b < DIM; b++) {
+              qi += Qi[a][b] * gij[b];
+              qj += Qj[3 * a + b] * gji[b];
+            }
+            fij[a] = sign * (qi - qj);
+            fi[a] += fij[a];
+          }
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *const rj = row(j);
+            for (int a = 0; a < DIM; a++) rj[a] -= fij[a];
+          }
+        }
+        for (int a = 0; a < DIM; a++) ri[a] = fi[a];
+      }
+    }
+
+    template <int DIM, int SIGN, bool ENERGY, bool ALL, typename Row>
+    double hourglass_into_scalar(int nlocal, double alpha, const double *const *u,
+                                 const double *const *grad, double *const *q, Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const hgs = pair_hg;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
       double energy_sum = 0.0;
       // in 3d each run in two passes: the pairs' terms, then i's share of Q
       // from them.  One pass would hold G_i, Q_i, f_i and u_i at once (24
@@ -310,8 +410,8 @@ namespace SPHElastic {
       constexpr int NQ = DIM * DIM;
       std::vector<double> q_terms;
       for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
-        const int first = run_first[r], last = run_end(r);
+        const int i = ratom[r];
+        const int first = rfirst[r], last = r + 1 < nruns ? rfirst[r + 1] : np;
         if (TWO_PASS && q_terms.size() < (size_t) (last - first) * NQ)
           q_terms.resize((size_t) (last - first) * NQ);
         double Gi[DIM][DIM], qi[NQ], fi[DIM], ui[DIM];
@@ -325,8 +425,8 @@ namespace SPHElastic {
           }
         }
         for (int p = first; p < last; p++) {
-          const int j = pair_atoms[2 * p + 1];
-          const double *hg = &pair_hg[(bigint) p * (1 + DIM)];
+          const int j = atoms[2 * p + 1];
+          const double *hg = &hgs[(bigint) p * hg_stride(DIM)];
           const double kij = alpha * hg[0];
           double X[DIM], d[3] = {0.0, 0.0, 0.0};
           for (int b = 0; b < DIM; b++) X[b] = hg[1 + b];
@@ -337,7 +437,7 @@ namespace SPHElastic {
             for (int b = 0; b < DIM; b++) gx += (Gi[a][b] + Gj[3 * a + b]) * X[b];
             d[a] = uj[a] - ui[a] - 0.5 * gx;
           }
-          const bool both = !directed_copy && j < nlocal;
+          const bool both = ALL || (!directed_copy && j < nlocal);
           double q_pair[NQ];
           double *const qterm = TWO_PASS ? &q_terms[(size_t) (p - first) * NQ] : q_pair;
           for (int a = 0; a < DIM; a++) {
@@ -375,7 +475,6 @@ namespace SPHElastic {
       return energy_sum;
     }
 
-   private:
 #ifdef LMP_SPH_SWEEPS_VECTOR
     // four doubles (v4d), and the same read or written at any address (v4du)
     typedef double v4d __attribute__((vector_size(32)));
@@ -387,48 +486,56 @@ namespace SPHElastic {
        then A = (a0 a0 a0 a1) * (b0 b1 b2 b0), B = (a1 a1 a2 a2) * (b1 b2 b0
        b1), C = a2 b2; the row sums of such products, (M b)_a, are gathered
        by shuffles in the order of the scalar loops: (m_a0 + m_a1) + m_a2.
-       Macros, not functions: a function taking or returning a vector draws
-       GCC's note that AVX changes its calling convention, even inlined
+       The pairs' vectors b are stored as (b0 b1 b2 b0 b1), so that both
+       cycles of b are plain loads.  A 3-vector of an atom (x, f) is read
+       and written as lanes 0-2 under a mask (lane 3 reads 0 and is never
+       written).  Macros, not functions: a function taking or returning a
+       vector draws GCC's note that AVX changes its calling convention,
+       even inlined
     ------------------------------------------------------------------------- */
 
 #define LMP_SPH_LOAD4(p) (*reinterpret_cast<const v4du *>(p))
 #define LMP_SPH_STORE4(p, v) (*reinterpret_cast<v4du *>(p) = (v))
-// from the three values themselves: a copy through memory would make the
-// vector load wait for three smaller stores (no store forwarding)
-#define LMP_SPH_LOAD3(p) (v4d{(p)[0], (p)[1], (p)[2], 0.0})
+#define LMP_SPH_MASK3 (_mm256_set_epi64x(0, -1, -1, -1))
+#define LMP_SPH_LOAD3(p, m) ((v4d) _mm256_maskload_pd((p), (m)))
+#define LMP_SPH_STORE3(p, m, v) _mm256_maskstore_pd((p), (m), (__m256d) (v))
 #define LMP_SPH_SPREAD_A(a) LMP_SPH_SHUFFLE(a, a, 0, 0, 0, 1)
 #define LMP_SPH_SPREAD_B(a) LMP_SPH_SHUFFLE(a, a, 1, 1, 2, 2)
-#define LMP_SPH_CYCLE_A(b) LMP_SPH_SHUFFLE(b, b, 0, 1, 2, 0)
-#define LMP_SPH_CYCLE_B(b) LMP_SPH_SHUFFLE(b, b, 1, 2, 0, 1)
 
     // gradients<3> on vectors, compiled for AVX2.  (Compiled for SSE2, as
     // two halves each, they took more instructions than the scalar loops.)
+    template <bool ALL>
     LMP_SPH_AVX2 void gradients_3d_avx2(int nlocal, const double *const *field,
                                         double *const *grad) const
     {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const __m256i m3 = LMP_SPH_MASK3;
       for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
         double *Gi = grad[i];
-        const v4d ui = LMP_SPH_LOAD3(field[i]);
+        const v4d ui = LMP_SPH_LOAD3(field[i], m3);
         v4d sumA = LMP_SPH_LOAD4(Gi), sumB = LMP_SPH_LOAD4(Gi + 4);
         double sumC = Gi[8];
-        for (int p = run_first[r]; p < run_end(r); p++) {
-          const int j = pair_atoms[2 * p + 1];
-          const double *g = &pair_g[(bigint) p * 6];
-          const v4d gij = LMP_SPH_LOAD3(g);
-          const v4d d = LMP_SPH_LOAD3(field[j]) - ui;
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * G3];
+          const v4d d = LMP_SPH_LOAD3(field[j], m3) - ui;
           const v4d dA = LMP_SPH_SPREAD_A(d), dB = LMP_SPH_SPREAD_B(d);
-          sumA += dA * LMP_SPH_CYCLE_A(gij);
-          sumB += dB * LMP_SPH_CYCLE_B(gij);
+          sumA += dA * LMP_SPH_LOAD4(g);
+          sumB += dB * LMP_SPH_LOAD4(g + 1);
           sumC += d[2] * g[2];
-          if (!directed_copy && j < nlocal) {
-            const v4d gji = LMP_SPH_LOAD3(g + 3);
+          if (ALL || (!directed_copy && j < nlocal)) {
             double *Gj = grad[j];
-            LMP_SPH_STORE4(Gj, LMP_SPH_LOAD4(Gj) - dA * LMP_SPH_CYCLE_A(gji));
-            LMP_SPH_STORE4(Gj + 4, LMP_SPH_LOAD4(Gj + 4) - dB * LMP_SPH_CYCLE_B(gji));
-            Gj[8] -= d[2] * g[5];
+            LMP_SPH_STORE4(Gj, LMP_SPH_LOAD4(Gj) - dA * LMP_SPH_LOAD4(g + 5));
+            LMP_SPH_STORE4(Gj + 4, LMP_SPH_LOAD4(Gj + 4) - dB * LMP_SPH_LOAD4(g + 6));
+            Gj[8] -= d[2] * g[7];
           }
         }
         LMP_SPH_STORE4(Gi, sumA);
@@ -437,99 +544,247 @@ namespace SPHElastic {
       }
     }
 
-    // (M b)_a of a block M (lanes A, B, C) and b (lanes 0-2), in the order
-    // of the scalar loops: (m_a0 b_0 + m_a1 b_1) + m_a2 b_2
-#define LMP_SPH_ROW_SUMS(out, mA, mB, mC, b)                                                      \
-  do {                                                                                            \
-    const v4d PA_ = (mA) *LMP_SPH_CYCLE_A(b), PB_ = (mB) *LMP_SPH_CYCLE_B(b);                     \
-    v4d third_ = LMP_SPH_SHUFFLE(PA_, PB_, 2, 5, 5, 5);                                           \
-    third_[2] = (mC) * (b)[2];                                                                    \
-    out =                                                                                         \
-        (LMP_SPH_SHUFFLE(PA_, PB_, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA_, PB_, 1, 4, 7, 7)) + third_; \
-  } while (0)
-
     // divergence_into<3> on vectors, compiled for AVX2
-    template <typename Row>
+    template <bool ALL, typename Row>
     LMP_SPH_AVX2 void divergence_into_3d_avx2(int nlocal, const double *const *q, double sign,
                                               Row row) const
     {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const __m256i m3 = LMP_SPH_MASK3;
+      // Q g as the sum of Q's columns times the components of g
+      const double *const qt = by_columns(nlocal, q);
       for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
         double *const ri = row(i);
-        const v4d QiA = LMP_SPH_LOAD4(q[i]), QiB = LMP_SPH_LOAD4(q[i] + 4);
-        const double QiC = q[i][8];
-        v4d fi = LMP_SPH_LOAD3(ri);
-        for (int p = run_first[r]; p < run_end(r); p++) {
-          const int j = pair_atoms[2 * p + 1];
-          const double *g = &pair_g[(bigint) p * 6];
-          const double *Qj = q[j];
-          v4d qi, qj;
-          LMP_SPH_ROW_SUMS(qi, QiA, QiB, QiC, LMP_SPH_LOAD3(g));
-          LMP_SPH_ROW_SUMS(qj, LMP_SPH_LOAD4(Qj), LMP_SPH_LOAD4(Qj + 4), Qj[8],
-                           LMP_SPH_LOAD3(g + 3));
+        const double *const Qti = &qt[12 * (size_t) i];
+        const v4d Qi0 = LMP_SPH_LOAD4(Qti), Qi1 = LMP_SPH_LOAD4(Qti + 4);
+        const v4d Qi2 = LMP_SPH_LOAD4(Qti + 8);
+        v4d fi = LMP_SPH_LOAD3(ri, m3);
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * G3];
+          const double *Qtj = &qt[12 * (size_t) j];
+          const v4d qi = (Qi0 * g[0] + Qi1 * g[1]) + Qi2 * g[2];
+          const v4d qj = (LMP_SPH_LOAD4(Qtj) * g[5] + LMP_SPH_LOAD4(Qtj + 4) * g[6]) +
+              LMP_SPH_LOAD4(Qtj + 8) * g[7];
           const v4d fij = sign * (qi - qj);
           fi += fij;
-          if (!directed_copy && j < nlocal) {
+          if (ALL || (!directed_copy && j < nlocal)) {
             double *const rj = row(j);
-            for (int a = 0; a < 3; a++) rj[a] -= fij[a];
+            LMP_SPH_STORE3(rj, m3, LMP_SPH_LOAD3(rj, m3) - fij);
           }
         }
-        for (int a = 0; a < 3; a++) ri[a] = fi[a];
+        LMP_SPH_STORE3(ri, m3, fi);
       }
     }
 
+    // two doubles (v2d), and the same read or written at any address (v2du)
+    typedef double v2d __attribute__((vector_size(16)));
+    typedef double v2du __attribute__((vector_size(16), aligned(8), may_alias));
+#define LMP_SPH_LOAD2(p) (*reinterpret_cast<const v2du *>(p))
+#define LMP_SPH_STORE2(p, v) (*reinterpret_cast<v2du *>(p) = (v))
+
+    // gradients<2> on pairs of doubles, compiled for AVX2: each row of the
+    // 2x2 block d (x) g is d_a times g
+    template <bool ALL>
+    LMP_SPH_AVX2 void gradients_2d_avx2(int nlocal, const double *const *field,
+                                        double *const *grad) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *Gi = grad[i];
+        const v2d ui = LMP_SPH_LOAD2(field[i]);
+        v2d sum0 = LMP_SPH_LOAD2(Gi), sum1 = LMP_SPH_LOAD2(Gi + 3);
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * 4];
+          const v2d d = LMP_SPH_LOAD2(field[j]) - ui;
+          sum0 += d[0] * LMP_SPH_LOAD2(g);
+          sum1 += d[1] * LMP_SPH_LOAD2(g);
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *Gj = grad[j];
+            LMP_SPH_STORE2(Gj, LMP_SPH_LOAD2(Gj) - d[0] * LMP_SPH_LOAD2(g + 2));
+            LMP_SPH_STORE2(Gj + 3, LMP_SPH_LOAD2(Gj + 3) - d[1] * LMP_SPH_LOAD2(g + 2));
+          }
+        }
+        LMP_SPH_STORE2(Gi, sum0);
+        LMP_SPH_STORE2(Gi + 3, sum1);
+      }
+    }
+
+    // divergence_into<2> on pairs of doubles, compiled for AVX2: the 2x2
+    // blocks of Q by columns (by_columns_2d), Q g = c0 g0 + c1 g1
+    template <bool ALL, typename Row>
+    LMP_SPH_AVX2 void divergence_into_2d_avx2(int nlocal, const double *const *q, double sign,
+                                              Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const gs = pair_g;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const double *const qt = by_columns_2d(nlocal, q);
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *const ri = row(i);
+        const v2d Qi0 = LMP_SPH_LOAD2(&qt[4 * (size_t) i]);
+        const v2d Qi1 = LMP_SPH_LOAD2(&qt[4 * (size_t) i + 2]);
+        v2d fi = LMP_SPH_LOAD2(ri);
+        for (int p = rfirst[r]; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          const double *g = &gs[(bigint) p * 4];
+          const double *Qtj = &qt[4 * (size_t) j];
+          const v2d qi = Qi0 * g[0] + Qi1 * g[1];
+          const v2d qj = LMP_SPH_LOAD2(Qtj) * g[2] + LMP_SPH_LOAD2(Qtj + 2) * g[3];
+          const v2d fij = sign * (qi - qj);
+          fi += fij;
+          if (ALL || (!directed_copy && j < nlocal)) {
+            double *const rj = row(j);
+            LMP_SPH_STORE2(rj, LMP_SPH_LOAD2(rj) - fij);
+          }
+        }
+        LMP_SPH_STORE2(ri, fi);
+      }
+    }
+
+    // hourglass_into<2> on pairs of doubles, compiled for AVX2: (G_i + G_j)
+    // X by the columns of G (by_columns_2d), Q's rows updated as rows
+    template <int SIGN, bool ENERGY, bool ALL, typename Row>
+    LMP_SPH_AVX2 double hourglass_into_2d_avx2(int nlocal, double alpha, const double *const *u,
+                                               const double *const *grad, double *const *q,
+                                               Row row) const
+    {
+      const bool directed_copy = directed;
+      const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const hgs = pair_hg;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const double *const gt = by_columns_2d(nlocal, grad);
+      double energy_sum = 0.0;
+      for (int r = 0; r < nruns; r++) {
+        const int i = ratom[r];
+        const int first = rfirst[r], last = r + 1 < nruns ? rfirst[r + 1] : np;
+        double *const ri = row(i);
+        double *const Qi = q[i];
+        const v2d ui = LMP_SPH_LOAD2(u[i]);
+        const v2d gi0 = LMP_SPH_LOAD2(&gt[4 * (size_t) i]);
+        const v2d gi1 = LMP_SPH_LOAD2(&gt[4 * (size_t) i + 2]);
+        v2d qi0 = LMP_SPH_LOAD2(Qi), qi1 = LMP_SPH_LOAD2(Qi + 3);
+        v2d fi = LMP_SPH_LOAD2(ri);
+        for (int p = first; p < last; p++) {
+          const int j = atoms[2 * p + 1];
+          // k_ij / alpha, X_0, X_1
+          const double *hg = &hgs[(bigint) p * 3];
+          const double kij = alpha * hg[0];
+          const v2d X = LMP_SPH_LOAD2(hg + 1);
+          const double *Gtj = &gt[4 * (size_t) j];
+          const v2d gx =
+              (gi0 + LMP_SPH_LOAD2(Gtj)) * hg[1] + (gi1 + LMP_SPH_LOAD2(Gtj + 2)) * hg[2];
+          const v2d d = (LMP_SPH_LOAD2(u[j]) - ui) - 0.5 * gx;
+          const v2d half_kd = (0.5 * kij) * d;
+          const v2d Q0 = half_kd[0] * X, Q1 = half_kd[1] * X;
+          qi0 -= Q0;
+          qi1 -= Q1;
+          const v2d kd = kij * d;
+          const bool both = ALL || (!directed_copy && j < nlocal);
+          if (ENERGY) {
+            const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + 0.0 * 0.0);
+            energy_sum += both ? 2.0 * e : e;
+          }
+          // (-1) * x is exact: the same sums as fi - x and rj + x
+          fi += static_cast<double>(SIGN) * kd;
+          if (both) {
+            double *qj = q[j];
+            LMP_SPH_STORE2(qj, LMP_SPH_LOAD2(qj) - Q0);
+            LMP_SPH_STORE2(qj + 3, LMP_SPH_LOAD2(qj + 3) - Q1);
+            double *const rj = row(j);
+            LMP_SPH_STORE2(rj, LMP_SPH_LOAD2(rj) - static_cast<double>(SIGN) * kd);
+          }
+        }
+        LMP_SPH_STORE2(ri, fi);
+        LMP_SPH_STORE2(Qi, qi0);
+        LMP_SPH_STORE2(Qi + 3, qi1);
+      }
+      return energy_sum;
+    }
+
     /* ----------------------------------------------------------------------
-       hourglass_into in 3d on vectors: G_i + G_j, the outer product
-       half_kd (x) X and the updates of Q are two vector operations and a
-       scalar each.  Q_i is summed over the run in registers, in the pair
-       order of the scalar code's second pass
+       hourglass_into in 3d on vectors: (G_i + G_j) X by the columns of G
+       (by_columns), the outer product half_kd (x) X and the updates of Q
+       two vector operations and a scalar each.  Q_i is summed over the run
+       in registers, in the pair order of the scalar code's second pass
     ------------------------------------------------------------------------- */
 
-    template <int SIGN, bool ENERGY, typename Row>
+    template <int SIGN, bool ENERGY, bool ALL, typename Row>
     LMP_SPH_AVX2 double hourglass_into_3d_avx2(int nlocal, double alpha, const double *const *u,
                                                const double *const *grad, double *const *q,
                                                Row row) const
     {
       const bool directed_copy = directed;
       const int nruns = static_cast<int>(run_atom.size());
+      const int *const atoms = pair_atoms;
+      const double *const hgs = pair_hg;
+      const int *const ratom = run_atom.data();
+      const int *const rfirst = run_first.data();
+      const int np = npairs;
+      const __m256i m3 = LMP_SPH_MASK3;
+      // (G_i + G_j) X as the sum of the columns times the components of X
+      const double *const gt = by_columns(nlocal, grad);
       double energy_sum = 0.0;
       for (int r = 0; r < nruns; r++) {
-        const int i = run_atom[r];
-        const int first = run_first[r], last = run_end(r);
+        const int i = ratom[r];
+        const int first = rfirst[r], last = r + 1 < nruns ? rfirst[r + 1] : np;
         double *const ri = row(i);
-        const v4d ui = LMP_SPH_LOAD3(u[i]);
-        const v4d giA = LMP_SPH_LOAD4(grad[i]), giB = LMP_SPH_LOAD4(grad[i] + 4);
-        const double giC = grad[i][8];
+        const v4d ui = LMP_SPH_LOAD3(u[i], m3);
+        const double *const Gti = &gt[12 * (size_t) i];
+        const v4d gi0 = LMP_SPH_LOAD4(Gti), gi1 = LMP_SPH_LOAD4(Gti + 4);
+        const v4d gi2 = LMP_SPH_LOAD4(Gti + 8);
         v4d qiA = LMP_SPH_LOAD4(q[i]), qiB = LMP_SPH_LOAD4(q[i] + 4);
         double qiC = q[i][8];
-        v4d fi = LMP_SPH_LOAD3(ri);
+        v4d fi = LMP_SPH_LOAD3(ri, m3);
         for (int p = first; p < last; p++) {
-          const int j = pair_atoms[2 * p + 1];
-          // k_ij / alpha, X_0, X_1, X_2
-          const v4d hg = LMP_SPH_LOAD4(&pair_hg[(bigint) p * 4]);
+          const int j = atoms[2 * p + 1];
+          // k_ij / alpha, then X_0 X_1 X_2 X_0 X_1
+          const double *hg = &hgs[(bigint) p * HG3];
           const double kij = alpha * hg[0];
-          const v4d XA = LMP_SPH_SHUFFLE(hg, hg, 1, 2, 3, 1);    // X0 X1 X2 X0
-          const v4d XB = LMP_SPH_SHUFFLE(hg, hg, 2, 3, 1, 2);    // X1 X2 X0 X1
-          const double *Gj = grad[j];
-          // (G_i + G_j) X: the products, then their sums along each row
-          const v4d PA = (giA + LMP_SPH_LOAD4(Gj)) * XA;
-          const v4d PB = (giB + LMP_SPH_LOAD4(Gj + 4)) * XB;
-          v4d third = LMP_SPH_SHUFFLE(PA, PB, 2, 5, 5, 5);
-          third[2] = (giC + Gj[8]) * hg[3];
+          const v4d XA = LMP_SPH_LOAD4(hg + 1);    // X0 X1 X2 X0
+          const v4d XB = LMP_SPH_LOAD4(hg + 2);    // X1 X2 X0 X1
+          const double X2 = hg[3];
+          // (G_i + G_j) X by columns
+          const double *Gtj = &gt[12 * (size_t) j];
           const v4d gx =
-              (LMP_SPH_SHUFFLE(PA, PB, 0, 3, 6, 6) + LMP_SPH_SHUFFLE(PA, PB, 1, 4, 7, 7)) + third;
-          const v4d d = (LMP_SPH_LOAD3(u[j]) - ui) - 0.5 * gx;
+              ((gi0 + LMP_SPH_LOAD4(Gtj)) * hg[1] + (gi1 + LMP_SPH_LOAD4(Gtj + 4)) * hg[2]) +
+              (gi2 + LMP_SPH_LOAD4(Gtj + 8)) * X2;
+          const v4d d = (LMP_SPH_LOAD3(u[j], m3) - ui) - 0.5 * gx;
           const v4d half_kd = (0.5 * kij) * d;
           const v4d QA = LMP_SPH_SPREAD_A(half_kd) * XA;
           const v4d QB = LMP_SPH_SPREAD_B(half_kd) * XB;
-          const double QC = half_kd[2] * hg[3];
+          const double QC = half_kd[2] * X2;
           qiA -= QA;
           qiB -= QB;
           qiC -= QC;
           const v4d kd = kij * d;
-          const bool both = !directed_copy && j < nlocal;
+          const bool both = ALL || (!directed_copy && j < nlocal);
           if (ENERGY) {
             const double e = 0.25 * kij * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             energy_sum += both ? 2.0 * e : e;
@@ -542,29 +797,82 @@ namespace SPHElastic {
             LMP_SPH_STORE4(qj + 4, LMP_SPH_LOAD4(qj + 4) - QB);
             qj[8] -= QC;
             double *const rj = row(j);
-            for (int a = 0; a < 3; a++) rj[a] -= SIGN * kd[a];
+            LMP_SPH_STORE3(rj, m3, LMP_SPH_LOAD3(rj, m3) - static_cast<double>(SIGN) * kd);
           }
         }
-        for (int a = 0; a < 3; a++) ri[a] = fi[a];
+        LMP_SPH_STORE3(ri, m3, fi);
         LMP_SPH_STORE4(q[i], qiA);
         LMP_SPH_STORE4(q[i] + 4, qiB);
         q[i][8] = qiC;
       }
       return energy_sum;
     }
-#endif
-    // one past the last pair of run r
-    int run_end(int r) const
+
+    /* ----------------------------------------------------------------------
+       the 3x3 blocks m (row-major) of every atom a pair reads, by columns,
+       each padded to four lanes (12 doubles per atom): M b is then the sum
+       of M's columns times the components of b, no shuffles, in the order
+       of the scalar loops ((m_a0 b_0 + m_a1 b_1) + m_a2 b_2).  Into the
+       work space columns, valid until the next call
+    ------------------------------------------------------------------------- */
+
+    const double *by_columns(int nlocal, const double *const *m) const
     {
-      return r + 1 < static_cast<int>(run_first.size()) ? run_first[r + 1] : npairs;
+      const int n = max_j + 1 > nlocal ? max_j + 1 : nlocal;
+      if (columns.size() < 12 * (size_t) n) columns.resize(12 * (size_t) n);
+      for (int k = 0; k < n; k++) {
+        const double *M = m[k];
+        double *t = &columns[12 * (size_t) k];
+        for (int b = 0; b < 3; b++) {
+          t[4 * b] = M[b];
+          t[4 * b + 1] = M[3 + b];
+          t[4 * b + 2] = M[6 + b];
+          t[4 * b + 3] = 0.0;
+        }
+      }
+      return columns.data();
+    }
+    // the same for the 2x2 blocks of 2d (row-major in the 3x3 rows):
+    // (m00 m10 m01 m11), 4 doubles per atom
+    const double *by_columns_2d(int nlocal, const double *const *m) const
+    {
+      const int n = max_j + 1 > nlocal ? max_j + 1 : nlocal;
+      if (columns.size() < 4 * (size_t) n) columns.resize(4 * (size_t) n);
+      for (int k = 0; k < n; k++) {
+        const double *M = m[k];
+        double *t = &columns[4 * (size_t) k];
+        t[0] = M[0];
+        t[1] = M[3];
+        t[2] = M[1];
+        t[3] = M[4];
+      }
+      return columns.data();
+    }
+#endif
+    // whether every pair adds to both atoms (see ALL above)
+    bool every_pair_both(int nlocal) const
+    {
+      return !directed && max_j < nlocal;
+    }
+    // doubles per pair of the gradients (g_ij then g_ji, from half of it
+    // on) and of the hourglass data (k_ij / alpha, X_ij): in 3d each vector
+    // is stored as (b0 b1 b2 b0 b1)
+    static constexpr int G3 = 10, HG3 = 6;
+    static constexpr int g_stride(int dim)
+    {
+      return dim == 3 ? G3 : 2 * dim;
+    }
+    static constexpr int hg_stride(int dim)
+    {
+      return dim == 3 ? HG3 : 1 + dim;
     }
     // g_ij and g_ji of pair p, into locals
-    template <int DIM> void load_gradients(int p, double *gij, double *gji) const
+    template <int DIM> static void load_gradients(const double *gs, int p, double *gij, double *gji)
     {
-      const double *g = &pair_g[(bigint) p * 2 * DIM];
+      const double *g = &gs[(bigint) p * g_stride(DIM)];
       for (int a = 0; a < DIM; a++) {
         gij[a] = g[a];
-        gji[a] = g[DIM + a];
+        gji[a] = g[g_stride(DIM) / 2 + a];
       }
     }
 
@@ -576,12 +884,17 @@ namespace SPHElastic {
     const bool has_avx2 = __builtin_cpu_supports("avx2") && !std::getenv("LAMMPS_SPH_NO_AVX2");
 #endif
     int npairs = 0, maxpairs = 0, maxpairs_hg = 0;
+    int max_j = -1;    // the largest j of the pairs
     bool directed = false;
     int *pair_atoms = nullptr;     // i and j of each pair
-    double *pair_g = nullptr;      // g_ij then g_ji of each pair, d doubles each
-    double *pair_hg = nullptr;     // k_ij / alpha then X_ij of each pair, 1 + d doubles
+    double *pair_g = nullptr;      // g_ij then g_ji of each pair (g_stride doubles)
+    double *pair_hg = nullptr;     // k_ij / alpha then X_ij of each pair (hg_stride doubles)
     std::vector<int> run_atom;     // the atom i of each run of consecutive pairs
     std::vector<int> run_first;    // and its first pair
+#ifdef LMP_SPH_SWEEPS_VECTOR
+    // work space of divergence_into_3d_avx2: Q of each atom by columns
+    mutable std::vector<double> columns;
+#endif
   };
 }    // namespace SPHElastic
 }    // namespace LAMMPS_NS
