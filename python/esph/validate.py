@@ -695,10 +695,13 @@ def table9(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
 # One resolution, the coarsest legal one: the gate 3 dx thick (RHEO's cut),
 # dx = 5/3 mm.  Quick runs the first 0.041 s (just past the experiment's
 # first point, 0.0402 s; about 3 min on one core) and compares the
-# displacement there; full runs 0.4 s and compares the
-# peak of the horizontal displacement and its time, and the vertical one
-# then (doc/results/validate_gate.json holds a measured full run).
-GATE_RUN = {False: {"T": 0.041}, True: {"T": 0.4}}
+# displacement there; full runs 0.25 s, past the first peak of every
+# reference (the experiment's at 0.16 s), and compares the peak of the
+# horizontal displacement and its time, and the vertical one then
+# (doc/results/validate_gate.json holds a measured full run).  0.25 s
+# rather than the experiment's 0.4 s: on the shared 2-core machine 0.4 s
+# took about 45 minutes, more than the time left to the run.
+GATE_RUN = {False: {"T": 0.041}, True: {"T": 0.25}}
 GATE_REFERENCE = Path(__file__).parent / "data" / "elastic_gate.json"
 
 
