@@ -663,8 +663,9 @@ def validate_gate_section(name: str, source: dict, data: list) -> list[str]:
                           "--full --tables g``)", name, source, "=")
     out += paragraph("Table 10 of ``scripts/validate --full``: the elastic-gate dam break "
                      "over 0.06 s on one core (the example stops at 0.062 s, before the "
-                     "gate's first peak: a water particle crosses the keep-out wall of the "
-                     "gate's holder); wall time on the machine above, at its load.")
+                     "gate's first peak: a particle of the free surface that crept into the "
+                     "tank's left wall bursts out and scatters the water; see "
+                     "``examples/fsi_gate``); wall time on the machine above, at its load.")
     return out + validate_table10(data)
 
 

@@ -698,10 +698,10 @@ def table9(full: bool, nprocs: int = 1, progress=print) -> list[dict]:
 # displacement there; full runs 0.06 s and compares the displacement
 # there (the references interpolated linearly between their digitised
 # points).  The comparison of the peaks (at 0.1-0.16 s) is written for
-# runs past 0.2 s, but no run of the example has got there yet: a water
-# particle crosses the keep-out wall of the gate's holder at 0.062 s (with
-# a harmonic and with an LJ 9-3 wall; without one the gate inverted at
-# 0.052 s, see examples/fsi_gate).  doc/results/validate_gate.json holds a
+# runs past 0.2 s, but no run of the example has got there yet: water of
+# the free surface creeps into RHEO's walls (the holder's top corner, then
+# a particle in the left wall that bursts out at 0.062 s and scatters the
+# water; see examples/fsi_gate).  doc/results/validate_gate.json holds a
 # measured full run.
 GATE_RUN = {False: {"T": 0.041}, True: {"T": 0.06}}
 GATE_REFERENCE = Path(__file__).parent / "data" / "elastic_gate.json"
