@@ -768,7 +768,7 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
             "wall": r["wall"], "mass_drift": r["mass1"] / r["mass0"] - 1.0,
             "dpx": (r["pwx1"] - r["pwx0"] - r["Ix"]) / r["Ig"],
             "dpy": (r["pwy1"] - r["pwy0"] - r["Iy"]) / r["Ig"]}
-    if r["T"] < 0.2:
+    if r["T"] < 0.15:
         t = r["T"]
         head = (f"{'':>44} {'ux(t)[mm]':>10} {'uy(t)[mm]':>10}   (t = {t:g} s)")
         print_head(head)
