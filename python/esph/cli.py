@@ -130,13 +130,14 @@ def main(argv=None) -> int:
     val.add_argument("--full", action="store_true",
                      help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
                           "(about 70 min on one core); default: quick (about 1 min)")
-    val.add_argument("--tables", default="123456789m",
+    val.add_argument("--tables", default="123456789gm",
                      help="which tables: 1 2 3 4 (ICB, the paper's), 5 (the defaults against "
                           "the finite-element continuum, nu = 0 and 0.3, 3D), 6 (two spheres "
                           "colliding in 3D against Hertz), 7 (Lame's thick-walled cylinder, a "
                           "curved body under pressure), 8 (the beam under its own weight "
                           "against the FE continuum), 9 (the hydrostatic plate: RHEO's water on an "
-                          "elastic plate against the FE continuum), m (failure matrix, with "
+                          "elastic plate against the FE continuum), g (Table 10, the elastic-gate "
+                          "dam break against Antoci's experiment), m (failure matrix, with "
                           "--full)")
     val.add_argument("--dx", type=float, default=0.002,
                      help="particle spacing of Tables 1 and 3 in m (0.002)")

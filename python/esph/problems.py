@@ -30,6 +30,7 @@ RINGS = EXAMPLES / "rings" / "in.rings"
 LAME = EXAMPLES / "lame" / "in.lame"
 BEAM_CYLINDER = EXAMPLES / "beam_cylinder" / "in.beam_cylinder"
 FSI_PLATE = EXAMPLES / "fsi_plate" / "in.fsi_plate"
+FSI_GATE = EXAMPLES / "fsi_gate" / "in.fsi_gate"
 
 # Lame's thick-walled cylinder of examples/lame: radii a < b (m), E (Pa), nu
 # and the pressure p (Pa)
