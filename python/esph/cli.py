@@ -129,7 +129,8 @@ def main(argv=None) -> int:
     val = sub.add_parser("validate", help="the paper's Tables 1-4 for ICB against exact theory")
     val.add_argument("--full", action="store_true",
                      help="dx down to 0.5 mm, all loads, and the CCB/CCBWAT failure matrix "
-                          "(about 70 min on one core); default: quick (about 1 min)")
+                          "(about 70 min on one core); default: quick (a few minutes, Table 10's "
+                          "gate run about 3 of them on one core)")
     val.add_argument("--tables", default="123456789gm",
                      help="which tables: 1 2 3 4 (ICB, the paper's), 5 (the defaults against "
                           "the finite-element continuum, nu = 0 and 0.3, 3D), 6 (two spheres "
