@@ -493,9 +493,9 @@ namespace SPHElastic {
        masked store (vmaskmovpd), and a load that spans two stores misses
        their forwarding.  Measured on this EPYC VM, 3d cantilever, 300
        steps x 18 runs: masked, the median loop time was that of the sweeps
-       before these vector loads (1.11 s against 1.11 s); unmasked 0.97 s.  Macros, not functions: a function taking or returning a
-       vector draws GCC's note that AVX changes its calling convention,
-       even inlined
+       before these vector loads (1.11 s against 1.11 s); unmasked 0.97 s.
+       Macros, not functions: a function taking or returning a vector draws
+       GCC's note that AVX changes its calling convention, even inlined
     ------------------------------------------------------------------------- */
 
 #define LMP_SPH_LOAD4(p) (*reinterpret_cast<const v4du *>(p))
