@@ -311,13 +311,7 @@ namespace SPHElastic {
     template <int DIM, bool ALL>
     void gradients_scalar(int nlocal, const double *const *field, double *const *grad) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int last = r + 1 < nruns ? rfirst[r + 1] : np;
@@ -349,13 +343,7 @@ namespace SPHElastic {
     template <int DIM, bool ALL, typename Row>
     void divergence_into_scalar(int nlocal, const double *const *q, double sign, Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int last = r + 1 < nruns ? rfirst[r + 1] : np;
@@ -392,13 +380,7 @@ namespace SPHElastic {
     double hourglass_into_scalar(int nlocal, double alpha, const double *const *u,
                                  const double *const *grad, double *const *q, Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const hgs = pair_hg;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, hgs] = lists(pair_hg);
       double energy_sum = 0.0;
       // in 3d each run in two passes: the pairs' terms, then i's share of Q
       // from them.  One pass would hold G_i, Q_i, f_i and u_i at once (24
@@ -517,13 +499,7 @@ namespace SPHElastic {
     LMP_SPH_AVX2 void gradients_3d_avx2(int nlocal, const double *const *field,
                                         double *const *grad) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int last = r + 1 < nruns ? rfirst[r + 1] : np;
@@ -557,13 +533,7 @@ namespace SPHElastic {
     LMP_SPH_AVX2 void divergence_into_3d_avx2(int nlocal, const double *const *q, double sign,
                                               Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       // Q g as the sum of Q's columns times the components of g
       const double *const qt = by_columns(nlocal, q);
       for (int r = 0; r < nruns; r++) {
@@ -604,13 +574,7 @@ namespace SPHElastic {
     LMP_SPH_AVX2 void gradients_2d_avx2(int nlocal, const double *const *field,
                                         double *const *grad) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
         const int last = r + 1 < nruns ? rfirst[r + 1] : np;
@@ -640,13 +604,7 @@ namespace SPHElastic {
     LMP_SPH_AVX2 void divergence_into_2d_avx2(int nlocal, const double *const *q, double sign,
                                               Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const gs = pair_g;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, gs] = lists(pair_g);
       const double *const qt = by_columns_2d(nlocal, q);
       for (int r = 0; r < nruns; r++) {
         const int i = ratom[r];
@@ -679,13 +637,7 @@ namespace SPHElastic {
                                                const double *const *grad, double *const *q,
                                                Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const hgs = pair_hg;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, hgs] = lists(pair_hg);
       const double *const gt = by_columns_2d(nlocal, grad);
       double energy_sum = 0.0;
       for (int r = 0; r < nruns; r++) {
@@ -747,13 +699,7 @@ namespace SPHElastic {
                                                const double *const *grad, double *const *q,
                                                Row row) const
     {
-      const bool directed_copy = directed;
-      const int nruns = static_cast<int>(run_atom.size());
-      const int *const atoms = pair_atoms;
-      const double *const hgs = pair_hg;
-      const int *const ratom = run_atom.data();
-      const int *const rfirst = run_first.data();
-      const int np = npairs;
+      const auto [directed_copy, nruns, np, atoms, ratom, rfirst, hgs] = lists(pair_hg);
       // (G_i + G_j) X as the sum of the columns times the components of X
       const double *const gt = by_columns(nlocal, grad);
       double energy_sum = 0.0;
@@ -880,6 +826,26 @@ namespace SPHElastic {
         gij[a] = g[a];
         gji[a] = g[g_stride(DIM) / 2 + a];
       }
+    }
+
+    // the pair lists and one per-pair array as values, for a sweep's
+    // locals: the loops store through double pointers, after which the
+    // compiler would reload members at every pair
+    struct Lists {
+      bool directed;
+      int nruns, npairs;
+      const int *atoms, *run_atom, *run_first;
+      const double *data;
+    };
+    Lists lists(const double *data) const
+    {
+      return {directed,
+              static_cast<int>(run_atom.size()),
+              npairs,
+              pair_atoms,
+              run_atom.data(),
+              run_first.data(),
+              data};
     }
 
     Memory *memory;
