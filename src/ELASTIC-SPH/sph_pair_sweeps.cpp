@@ -50,4 +50,7 @@ void PairSweeps::reserve(bigint bound, bool hourglass)
   max_j = -1;
   run_atom.clear();
   run_first.clear();
+#ifdef LMP_SPH_SWEEPS_VECTOR
+  read_atoms_stale = true;
+#endif
 }
