@@ -150,9 +150,11 @@ def test_blob_momentum_conserved(lmp, tmp_path, newton):
     # measured: 7.4e-16 (1 rank, 300 steps, newton off and on alike)
     drift = np.abs(p - [p0, 0.0]).max() / abs(p0)
     assert drift < 1e-13
-    # the exchange is real: the body took 43 % of the momentum (measured)
+    # the exchange is real: the body took 45 % of the momentum (measured;
+    # 43 % with 'continuity rheo', where the water sees the body it pushes
+    # as a wall at rest)
     body = lmp.extract_compute("pb", 0, 0)
-    assert body / p0 == pytest.approx(0.428, abs=0.01)
+    assert body / p0 == pytest.approx(0.449, abs=0.01)
     # and no fluid particle came closer to an elastic one than half a
     # spacing (measured: 1.26 dx)
     n = lmp.get_natoms()

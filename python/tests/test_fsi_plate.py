@@ -13,7 +13,7 @@ from esph.runner import run_mpi
 
 # Measured at 3 layers (T = 0.2 s, averages over 0.1-0.2 s, the plate
 # sub-stepped 3 times per fluid step): the coupled plate's mid-span columns
-# sink 1.94 % less than the FE continuum, within 0.05 % of the same plate
+# sink 1.89 % less than the FE continuum, within 2e-6 of the same plate
 # without water under the column's pressure as forces on its top atoms
 # (Newton statics, in.fsi_plate_dry).  The error is the plate's own
 # discretisation at 3 particles through its thickness (volumes of
@@ -31,19 +31,21 @@ def test_plate_against_fe_and_dry_plate():
     # plate_errors runs the dry plate too
     assert abs(r["vs_dry"]) < COUPLED_VS_DRY
     assert r["substeps"] == 3
-    # the fluid carries its weight to the plate (measured 1.0064; the
-    # corners' water pushes the walls over the clamps up by -0.0063)
+    # the fluid carries its weight to the plate (measured 1.0113; the
+    # corners' water pushes the walls over the clamps up by -0.0106)
     assert r["force"] == pytest.approx(1.0, abs=0.02)
     assert r["force"] + r["wallforce"] == pytest.approx(1.0, abs=0.005)
     # no atom lost, mass to round-off (measured 4e-15)
     assert abs(r["mass_drift"]) < 1e-12
     # at rest: the momentum of water and plate changes over the window by
-    # a vanishing share of the load's impulse (measured -4.4e-5, the last
-    # of the settling); it is not a conservation to round-off here
-    # (gravity, walls, clamps and the damping act from outside): the
-    # exchange itself is exact (tests/test_fsi.py,
-    # test_blob_momentum_conserved)
-    assert abs(r["dp_y"]) < 1e-4 and abs(r["dp_x"]) < 1e-10
+    # a vanishing share of the load's impulse (measured -1.4e-4, the
+    # sloshing of water and undamped plate; -4.4e-5 with 'continuity rheo',
+    # in which the water does not see the plate move, and 0.1 s later still
+    # -1.3e-4 against 2.2e-5: a standing oscillation, not a drift); it is
+    # not a conservation to round-off here (gravity, walls, clamps and the
+    # damping act from outside): the exchange itself is exact
+    # (tests/test_fsi.py, test_blob_momentum_conserved)
+    assert abs(r["dp_y"]) < 3e-4 and abs(r["dp_x"]) < 1e-10
 
 
 def test_fe_reference_is_converged_and_sane():

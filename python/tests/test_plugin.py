@@ -163,6 +163,8 @@ EXAMPLES_QUICK = [
     ("beam", "in.beam", {"dx": 0.004, "route": "min"}),
     ("lame", "in.lame", {"nw": 6}),
     ("lame", "in.lame", {"nw": 6, "support": "clamp", "side": "outer"}),
+    # the fluid coupling, RHEO's fields read by fix sph/fluid's headers only
+    ("fsi_gate", "in.fsi_gate", {"T": 0.0005, "file": "/dev/null"}),
 ]
 
 

@@ -39,6 +39,7 @@
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
+#include "sph_twin_continuity.h"
 #include "update.h"
 
 #include <algorithm>
@@ -70,8 +71,9 @@ bool excluded(const Neighbor *neighbor, int a, int b)
 FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), fix_rheo(nullptr), elastic_pair(nullptr), itwin(-1),
     dtf(0.0), fsum{0.0, 0.0, 0.0}, fall{0.0, 0.0, 0.0}, fall_current(0), list(nullptr),
-    spacing(0.0), substeps(1), nsub(1), estore(nullptr), nmax_work(0), xsave(nullptr),
-    vmean(nullptr), fsave(nullptr)
+    half_list(nullptr), spacing(0.0), substeps(1), nsub(1), estore(nullptr), nmax_work(0),
+    xsave(nullptr), vmean(nullptr), fsave(nullptr), continuity_body(true),
+    comm_stage(COMM_POSITIONS)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -89,8 +91,22 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
                      arg[iarg + 1]);
       }
       iarg += 2;
+    } else if (strcmp(arg[iarg], "continuity") == 0) {
+      if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "fix sph/fluid continuity", error);
+      if (strcmp(arg[iarg + 1], "body") == 0)
+        continuity_body = true;
+      else if (strcmp(arg[iarg + 1], "rheo") == 0)
+        continuity_body = false;
+      else
+        error->all(FLERR, iarg + 1,
+                   "Fix sph/fluid continuity must be body (the twins' own velocities in the "
+                   "fluid's continuity equation) or rheo (RHEO's wall image velocity): {}",
+                   arg[iarg + 1]);
+      iarg += 2;
     } else {
-      error->all(FLERR, iarg, "Unknown fix sph/fluid keyword: {} (it takes 'substeps N|auto')",
+      error->all(FLERR, iarg,
+                 "Unknown fix sph/fluid keyword: {} (it takes 'substeps N|auto' and "
+                 "'continuity body|rheo')",
                  arg[iarg]);
     }
   }
@@ -102,8 +118,9 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
   size_vector = 3;
   global_freq = 1;
   extvector = 1;
-  comm_forward = 3;
-  comm_reverse = 3;
+  // positions (3), or the twins' gradient differences (dim x dim)
+  comm_forward = std::max(3, domain->dimension * domain->dimension);
+  comm_reverse = comm_forward;
 }
 
 FixSPHFluid::~FixSPHFluid()
@@ -153,7 +170,8 @@ void FixSPHFluid::post_constructor()
 int FixSPHFluid::setmask()
 {
   int mask = POST_INTEGRATE | PRE_FORCE | POST_FORCE | END_OF_STEP;
-  if (substeps != 1) mask |= INITIAL_INTEGRATE | FINAL_INTEGRATE;
+  if (substeps != 1 || continuity_body) mask |= INITIAL_INTEGRATE;
+  if (substeps != 1) mask |= FINAL_INTEGRATE;
   return mask;
 }
 
@@ -234,13 +252,64 @@ void FixSPHFluid::init()
   // thin-body check at setup (an occasional list, built there only)
   neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL)
       ->set_cutoff(fix_rheo->cut + neighbor->skin);
+  // the fluid-twin pairs of the continuity correction, from a half list as
+  // fix rheo's gradient has (LAMMPS copies it from the pair's)
+  // (LAMMPS calls init_list() again only if the requests changed: the
+  // list pointers stay from the last run)
+  continuity.reset();
+  if (continuity_body) {
+    continuity = std::make_unique<SPHTwinContinuity>(lmp, fix_rheo);
+    continuity->set_twin_types(twin_types());
+    neighbor->add_request(this)->set_id(1);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
 
-void FixSPHFluid::init_list(int /*id*/, NeighList *ptr)
+void FixSPHFluid::init_list(int id, NeighList *ptr)
 {
-  list = ptr;
+  if (id == 1)
+    half_list = ptr;
+  else
+    list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   the types of this fix's twins, on every rank
+------------------------------------------------------------------------- */
+
+std::vector<int> FixSPHFluid::twin_types()
+{
+  const int ntypes = atom->ntypes;
+  std::vector<int> mine(ntypes + 1, 0), all(ntypes + 1, 0);
+  const int *src = atom->ivector[itwin], *type = atom->type, *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (src[i] && (mask[i] & groupbit)) mine[type[i]] = 1;
+  MPI_Allreduce(mine.data(), all.data(), ntypes + 1, MPI_INT, MPI_MAX, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   after fix rheo computed the fluid's velocity gradient (at the step's
+   start in its initial_integrate, or in its pre_force): the twins' own
+   velocities in it (SPHTwinContinuity); pre_force's gradients, which
+   pair rheo reads, go to the ghosts too
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::correct_continuity(bool at_step_start)
+{
+  if (!continuity) return;
+  continuity->find_pairs(half_list);
+  continuity->add_differences(at_step_start);
+  comm_stage = COMM_DIFFERENCES;
+  if (force->newton_pair) comm->reverse_comm(this, continuity->ncomm);
+  continuity->correct_owned(at_step_start);
+  if (!at_step_start) {
+    comm->forward_comm(this, continuity->ncomm);
+    continuity->correct_ghosts();
+  }
+  continuity->clear();
+  comm_stage = COMM_POSITIONS;
 }
 
 /* ----------------------------------------------------------------------
@@ -327,6 +396,7 @@ void FixSPHFluid::setup(int /*vflag*/)
   }
   hand_back_forces();
   show_accelerations(nsub > 1);
+  if (continuity) continuity->save_step_start();
 }
 
 /* ----------------------------------------------------------------------
@@ -432,6 +502,7 @@ void FixSPHFluid::pre_force(int /*vflag*/)
   int *status = atom->rheo_status;
   for (const auto &link : twin_links) status[link.first] |= RHEO_NS::STATUS_NO_INTEGRATION;
   if (nsub > 1) mark_no_integration();
+  correct_continuity(false);
 }
 
 /* ----------------------------------------------------------------------
@@ -501,6 +572,7 @@ void FixSPHFluid::end_of_step()
 {
   show_accelerations(nsub > 1);
   if (nsub > 1) save_positions();
+  if (continuity) continuity->save_step_start();
 }
 
 void FixSPHFluid::show_accelerations(bool still)
@@ -655,6 +727,23 @@ void FixSPHFluid::check_setup()
                    "Fix sph/fluid {}: RHEO sees the elastic atoms of type {} beside type {}; "
                    "their twins stand in for them: add 'neigh_modify exclude type {} {}'",
                    id, e, t, e, t);
+  }
+
+  // the twins' types hold twins only: fix sph/fluid's continuity takes
+  // every atom of them, ghosts included, for a twin
+  tagint other = 0, other_all = 0;
+  for (int i = 0; i < nlocal; i++)
+    if (twin_all[type[i]] && !src[i]) other = std::max(other, atom->tag[i]);
+  MPI_Allreduce(&other, &other_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  if (other_all) {
+    int t = 0;
+    for (int i = 0; i < nlocal; i++)
+      if (atom->tag[i] == other_all) t = type[i];
+    MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPI_INT, MPI_MAX, world);
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid {}: atom {} is of twin type {} but is not a twin; give the twins "
+               "a type of their own (create_sph_twins GROUP TYPE)",
+               id, other_all, t);
   }
 
   // one particle volume and density scale for fluid and bodies
@@ -1195,7 +1284,7 @@ void FixSPHFluid::elastic_forces()
   for (int i : solid) f[i][0] = f[i][1] = f[i][2] = 0.0;
   for (auto *fix : mirrors) fix->pre_force(0);
   PairSPHElastic::find(lmp)->compute(0, 0);
-  if (force->newton_pair) comm->reverse_comm(this);
+  if (force->newton_pair) comm->reverse_comm(this, 3);
   for (auto *fix : mirrors) fix->post_force(0);
 }
 
@@ -1224,6 +1313,7 @@ void FixSPHFluid::store_elastic_forces()
 
 void FixSPHFluid::initial_integrate(int /*vflag*/)
 {
+  correct_continuity(true);
   if (nsub <= 1) return;
   grow_work();
   refresh_lists("at the step's start");
@@ -1251,7 +1341,7 @@ void FixSPHFluid::initial_integrate(int /*vflag*/)
       for (int a = 0; a < 3; a++) v[i][a] += dtfm * (e[i][a] + e[i][6 + a]);
       for (int a = 0; a < dim; a++) x[i][a] += h * v[i][a];
     }
-    comm->forward_comm(this);
+    comm->forward_comm(this, 3);
     // the last sub-step ends where the step's force computation starts:
     // pair sph/icb keeps these elastic forces for it (and computes them
     // again only if it must tally energy or virial, or something moved)
@@ -1309,6 +1399,12 @@ void FixSPHFluid::reset_dt()
 
 int FixSPHFluid::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
 {
+  if (comm_stage == COMM_DIFFERENCES) {
+    int m = 0;
+    for (int k = 0; k < n; k++)
+      for (int c = 0; c < continuity->ncomm; c++) buf[m++] = continuity->delta[list[k]][c];
+    return m;
+  }
   double **x = atom->x;
   double dx = 0.0, dy = 0.0, dz = 0.0;
   if (pbc_flag) {
@@ -1334,6 +1430,11 @@ int FixSPHFluid::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, 
 
 void FixSPHFluid::unpack_forward_comm(int n, int first, double *buf)
 {
+  if (comm_stage == COMM_DIFFERENCES) {
+    for (int i = first, m = 0; i < first + n; i++, m += continuity->ncomm)
+      continuity->receive(i, &buf[m], false);
+    return;
+  }
   auto *pair = PairSPHElastic::find(lmp);
   const int *type = atom->type;
   double **x = atom->x;
@@ -1349,6 +1450,12 @@ void FixSPHFluid::unpack_forward_comm(int n, int first, double *buf)
 
 int FixSPHFluid::pack_reverse_comm(int n, int first, double *buf)
 {
+  if (comm_stage == COMM_DIFFERENCES) {
+    int m = 0;
+    for (int i = first; i < first + n; i++)
+      for (int c = 0; c < continuity->ncomm; c++) buf[m++] = continuity->delta[i][c];
+    return m;
+  }
   auto *pair = PairSPHElastic::find(lmp);
   const int *type = atom->type;
   double **f = atom->f;
@@ -1362,6 +1469,11 @@ int FixSPHFluid::pack_reverse_comm(int n, int first, double *buf)
 
 void FixSPHFluid::unpack_reverse_comm(int n, int *list, double *buf)
 {
+  if (comm_stage == COMM_DIFFERENCES) {
+    for (int k = 0, m = 0; k < n; k++, m += continuity->ncomm)
+      continuity->receive(list[k], &buf[m], true);
+    return;
+  }
   auto *pair = PairSPHElastic::find(lmp);
   const int *type = atom->type;
   double **f = atom->f;

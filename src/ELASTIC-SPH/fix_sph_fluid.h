@@ -22,11 +22,14 @@ FixStyle(sph/fluid,FixSPHFluid);
 
 #include "fix.h"
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
+
+class SPHTwinContinuity;
 
 /* ----------------------------------------------------------------------
    two-way coupling of sph/icb bodies with a RHEO fluid by hydrodynamic
@@ -80,7 +83,8 @@ class FixSPHFluid : public Fix {
   double fsum[3], fall[3];           // fluid force on this rank's twins, all ranks'
   int fall_current;
   class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
-  double spacing;           // the particle spacing V^(1/d) of the twins' volume V
+  class NeighList *half_list;    // perpetual half list, for the twins' continuity
+  double spacing;                // the particle spacing V^(1/d) of the twins' volume V
 
   // sub-stepping of the elastic bodies (keyword substeps): velocity Verlet
   // at dt/N with the elastic forces recomputed and every other force on
@@ -104,6 +108,12 @@ class FixSPHFluid : public Fix {
   int lists_nlocal = -1, lists_nall = -1;
   std::vector<class Fix *> mirrors;
 
+  // keyword continuity: body (the twins' own velocities in the fluid's
+  // continuity equation, set by this class) or rheo (RHEO's image velocity)
+  bool continuity_body;
+  std::unique_ptr<SPHTwinContinuity> continuity;
+  enum { COMM_POSITIONS, COMM_DIFFERENCES } comm_stage;
+
   bool integrates(int i) const;
   void refresh_lists(const char *when);
   void grow_work();
@@ -115,6 +125,8 @@ class FixSPHFluid : public Fix {
   void sync_twins(bool positions);
   void hand_back_forces();
   void show_accelerations(bool still);
+  void correct_continuity(bool at_step_start);
+  std::vector<int> twin_types();
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
   void check_thin_bodies(const std::vector<int> &twin_type);
