@@ -9,6 +9,10 @@
 #
 # run (the default) runs the cases into OUTDIR (default /tmp/gate_sensitivity)
 # and prints the summary; summary only prints it from OUTDIR's logs.
+# CONTINUITY=rheo|body (environment) sets fix sph/fluid continuity in every
+# case (default body, the example's; out_gate_sensitivity.txt was measured
+# before the keyword existed, as rheo; out_gate_sensitivity_body.txt with
+# body).
 source "$(dirname "${BASH_SOURCE[0]}")/../../../scripts/common.sh"
 esph_env
 set +e
@@ -37,7 +41,8 @@ if [ "$what" = run ]; then
     input="$out/in.fsi_gate"
     [ "$name" = rhosum ] && input="$out/in.fsi_gate.rhosum"
     (cd "$out" && mpirun -np 1 lmp -in "$input" -log "log.$name" -screen none \
-       -var T 0.041 -var file "tip.$name" $vars > /dev/null 2>&1)
+       -var T 0.041 -var file "tip.$name" -var continuity "${CONTINUITY:-body}" $vars \
+       > /dev/null 2>&1)
   done
 fi
 printf '%-7s %-24s %12s %12s %9s %8s\n' case settings "ux(0.041)[mm]" "uy[mm]" "loop[s]" steps

@@ -8,8 +8,10 @@ of a coupled run is counted in instructions (callgrind, the time loop
 only: Verlet::run), where it can be told apart by function:
 
   coupled, the solid: every hook of fix sph/fluid (the gate's sub-steps
-      with their elastic forces and clamps, the twins' hand-over), pair
-      sph/icb as pair hybrid calls it, fix sph/mirror as LAMMPS calls it;
+      with their elastic forces and clamps, the twins' hand-over, and the
+      twins' velocities in the fluid's continuity equation, whose share is
+      reported alone too), pair sph/icb as pair hybrid calls it, fix
+      sph/mirror as LAMMPS calls it;
   alone: the whole loop, less fix addforce (the water's pressure as an
       atom-style variable, which the coupled run does not have).
 
@@ -119,6 +121,11 @@ def main() -> int:
         solid_coupled += c["edges"].get((f"{ns}Modify::{hook}(int)",
                                          f"{ns}FixSPHMirror::{hook}(int)"), 0)
     total_coupled = c["inclusive"][f"{ns}Verlet::run(int)"]
+    # continuity body: fix sph/fluid's calls of SPHTwinContinuity (another
+    # translation unit: not inlined)
+    continuity = sum(c["inclusive"].get(f"{ns}SPHTwinContinuity::{m}", 0) for m in (
+        "find_pairs(LAMMPS_NS::NeighList*)", "add_differences(bool)", "correct_owned(bool)",
+        "correct_ghosts()", "clear()", "save_step_start()"))
     solid_dry = d["inclusive"][f"{ns}Verlet::run(int)"] - \
         d["inclusive"].get(f"{ns}FixAddForce::post_force(int)", 0)
     body_steps = nbody * nsub * steps
@@ -133,6 +140,8 @@ def main() -> int:
         "solid_per_particle_step_coupled": solid_coupled / body_steps,
         "solid_per_particle_step_alone": solid_dry / body_steps,
         "solid_ratio": solid_coupled / solid_dry,
+        "instructions_continuity": continuity,
+        "continuity_per_particle_step": continuity / body_steps,
         "rest_per_water_particle_step": (total_coupled - solid_coupled) / (nwater * steps),
         "loop_coupled_s": loop_time(coupled_log),
         "loop_alone_s": loop_time(dry_log),
