@@ -100,32 +100,41 @@ def test_corrected_volumes_are_consistent(tmp_path):
 CUT = 0.05
 
 
-def sandwich(layers: int, below: bool = True, processors: str = "") -> str:
+def sandwich(layers: int, below: bool = True, processors: str = "", gap: int = 0) -> str:
     """A free 12-particle-long plate `layers` particles thick under 3
-    layers of fluid (and over 3 more if below), in zero gravity, fix rheo's
-    cut 5 dx, up to the first run; with processors 1 2 1 the ranks split
-    between the plate (rank 0, with the fluid below it) and the fluid above
-    it."""
+    layers of fluid (and over 3 more if below, `gap` spacings under it), in
+    zero gravity, fix rheo's cut 5 dx, up to the first run; with processors
+    1 2 1 the ranks split between the plate (rank 0, with the fluid below
+    it) and the fluid above it."""
     t = layers * 0.01
+    low = -0.01 * gap
     rheo = edit(PAIR + RHEO.format(kernel="quintic 0", rho3="1000"),
                 ("rheo 0.03 artificial", f"rheo {CUT} artificial"),
                 ("all rheo 0.03 quintic", f"all rheo {CUT} quintic"))
     return SETTINGS + processors + f"""
-region box block -0.01 0.13 -0.05 {t + 0.06} -0.5 0.5 units box
+region box block -0.01 0.13 {low - 0.05} {t + 0.06} -0.5 0.5 units box
 create_box 3 box
 lattice sq 0.01 origin 0.5 0.5 0.0
 region plate block 0 0.12 0 {t} INF INF units box
 region above block 0 0.12 {t} {t + 0.03} INF INF units box
-region below block 0 0.12 -0.03 0 INF INF units box
+region below block 0 0.12 {low - 0.03} {low} INF INF units box
 create_atoms 2 region plate
 create_atoms 1 region above
 {"create_atoms 1 region below" if below else ""}
 """ + ATOMS + rheo + "create_sph_twins body 3\n" + COUPLE + "timestep 1e-4\n"
 
 
+# what both thin-body errors advise: a twin k layers deep in a plate of L
+# has the fluid on its two sides k + 1 and L - k spacings away, within the
+# reach of cut - dx/2 = 4.5 dx for some k up to L = 7
+ADVICE = "make the body at least 8 layers thick at this spacing"
 THIN = ["interact through a body near", "about 0.03 thick along their line (3 particles at "
-        "the spacing 0.01)", "within fix rheo's cut 0.05",
-        "make the body at least the cut thick (5 layers at this spacing)"]
+        "the spacing 0.01)", "within fix rheo's cut 0.05", ADVICE]
+# the 5-layer plate: its layers 1 to 3 see the fluid on both sides within
+# 4.5 dx (2 and 4, 3 and 3, 4 and 2 spacings away)
+THIN_TWINS = ["on opposite faces of its body, about 0.05 thick there (5 particles at the "
+              "spacing 0.01)", "within fix rheo's cut 0.05", "carries the pressure of one side",
+              ADVICE]
 
 
 def test_thin_body_with_fluid_on_both_sides(tmp_path):
@@ -139,23 +148,97 @@ def test_thin_body_with_fluid_on_both_sides(tmp_path):
         assert message in error, error
 
 
-@pytest.mark.parametrize("layers,below", [(3, False), (5, True)])
+def test_twins_with_fluid_on_both_sides(tmp_path):
+    """A plate 5 particles thick between two fluid layers: no fluid pair
+    sees through it (6 dx apart), but its inner three layers' twins have
+    fluid within 4.5 dx on both faces, and RHEO would give them a pressure
+    averaged over both sides."""
+    error = refused(tmp_path, sandwich(5), "run 1")
+    for message in THIN_TWINS:
+        assert message in error, error
+    assert "see through" not in error
+
+
+@pytest.mark.parametrize("layers,below", [(3, False), (5, False), (8, True)])
 def test_thin_plate_one_sided_or_thick_plate_runs(tmp_path, layers, below):
-    """The same plate with fluid above it only, and a plate the cut thick
-    (5 particles) with fluid on both sides (their nearest fluid atoms 6 dx
-    apart), run."""
+    """The plates with fluid above them only, and a plate thick enough for
+    the cut (8 particles) with fluid on both sides, run."""
     runs(sandwich(layers, below) + "run 5\n", tmp_path)
+
+
+def test_fluid_reaching_the_second_side_in_a_run(tmp_path):
+    """The 5-layer plate with the fluid below it 3 spacings away at the
+    start (5 dx from the twins of layer 1, which see the fluid above 4 dx
+    away), rising at 1 m/s: the check in the run stops it once that fluid
+    is within 4.5 dx of them, after 50 steps (the check every 10, and
+    the rising fluid slowed by the plate's own fluid below: 60 or 70
+    then); with thin/check 0 the same steps run."""
+    script = sandwich(5, gap=3) + "group rising region below\nvelocity rising set 0 1 0 units box\n"
+    script = script.replace("fix fsi all sph/fluid", "fix fsi all sph/fluid thin/check 10 error")
+    error = refused(tmp_path, script, "run 100")
+    for message in THIN_TWINS[1:]:
+        assert message in error, error
+    step = int(error.split(" at step ")[1].split(":")[0])
+    assert 50 <= step <= 70, error
+    runs(script.replace("thin/check 10 error", "thin/check 0 error") + "run 100\n", tmp_path)
+    # with warn the run goes on, and says so at every check from that step
+    rc, out = run_lmp(script.replace("10 error", "10 warn") + "run 100\n", tmp_path, timeout=120)
+    assert rc == 0, out[-3000:]
+    warned = [line for line in out.splitlines()
+              if line.startswith("WARNING: Fix sph/fluid fsi at step")]
+    assert len(warned) == (100 - step) // 10 + 1, out[-3000:]
+    assert all(THIN_TWINS[2] in line for line in warned)
+
+
+def test_fluid_inside_a_body(tmp_path):
+    """A fluid atom at the centre of a lattice cell of a plate 5 thick with
+    fluid above it only: inside the body, among 4 twins around it (the
+    water particle the 3-layer gate of examples/fsi_gate let in at its tip
+    at step 4400 had the centroid of its twins 0.23 spacings off)."""
+    script = sandwich(5, below=False).replace(
+        "create_atoms 1 region above\n",
+        "create_atoms 1 region above\ncreate_atoms 1 single 0.06 0.02 0 units box\n")
+    error = refused(tmp_path, script, "run 1")
+    assert "at (0.06, 0.02, 0), moving at 0, is inside a body, among its twins (1 fluid atom " \
+        "so): the fluid went through the body's surface" in error, error
 
 
 @pytest.mark.slow
 def test_thin_body_two_ranks(tmp_path):
     """On 2 ranks, the fluid below the plate and the plate on rank 0, the
     fluid above on rank 1: each rank tests the pairs of its own fluid atoms
-    with the other's as ghosts, and finds as many as 1 rank."""
+    (and its own twins) with the other's as ghosts, and finds as many as 1
+    rank."""
     error = error_of(sandwich(3, processors="processors 1 2 1") + "run 1\n", tmp_path, 2)
     for message in THIN + ["20 fluid atoms see through"]:
         assert message in error, error
+    error = error_of(sandwich(5, processors="processors 1 2 1") + "run 1\n", tmp_path, 2)
+    for message in THIN_TWINS:
+        assert message in error, error
     runs(sandwich(3, below=False, processors="processors 1 2 1") + "run 5\n", tmp_path, 2)
+
+
+@pytest.mark.parametrize("values,message", [
+    ("-1 error", "thin/check must be a whole number of steps, 0 for the check at setup only: -1"),
+    ("often error", "whole number of steps, 0 for the check at setup only: often"),
+    ("2.5 warn", "whole number of steps, 0 for the check at setup only: 2.5"),
+    ("100 stop", "thin/check N takes error or warn (what a finding in the run does; at setup "
+                 "it is always an error): stop"),
+    ("100", "Illegal fix sph/fluid thin/check command: missing argument"),
+])
+def test_thin_check_keyword_is_checked(tmp_path, values, message):
+    script = sandwich(3, below=False).replace("fix fsi all sph/fluid",
+                                              f"fix fsi all sph/fluid thin/check {values}")
+    error = error_of(script + "run 1\n", tmp_path)
+    assert message in error, error
+
+
+def test_thin_body_at_setup_is_an_error_with_warn(tmp_path):
+    """warn is for what happens in a run: a body too thin at the start is
+    bad input."""
+    script = sandwich(3).replace("fix fsi all sph/fluid", "fix fsi all sph/fluid thin/check 1 warn")
+    error = refused(tmp_path, script, "run 1")
+    assert THIN[0] in error and " at step " not in error, error
 
 
 # ---------------------------------------------------------------------------

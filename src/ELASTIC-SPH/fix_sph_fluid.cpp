@@ -39,6 +39,7 @@
 #include "pair_sph_icb.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
+#include "sph_thin_body_check.h"
 #include "sph_twin_continuity.h"
 #include "update.h"
 
@@ -55,6 +56,9 @@ using namespace FixConst;
 namespace {
 // masses this close (relative) are equal for pair rheo
 constexpr double MASS_TOLERANCE = 1.0e-10;
+// the thin-body check's interval in a run: water reaching a body's second
+// side takes hundreds of steps to go wrong (studies/fsi_rheo 9.4)
+constexpr bigint THIN_EVERY_DEFAULT = 100;
 
 bool excluded(const Neighbor *neighbor, int a, int b)
 {
@@ -73,7 +77,7 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
     dtf(0.0), fsum{0.0, 0.0, 0.0}, fall{0.0, 0.0, 0.0}, fall_current(0), list(nullptr),
     half_list(nullptr), spacing(0.0), substeps(1), nsub(1), estore(nullptr), nmax_work(0),
     xsave(nullptr), vmean(nullptr), fsave(nullptr), continuity_body(true),
-    comm_stage(COMM_POSITIONS)
+    comm_stage(COMM_POSITIONS), thin_every(THIN_EVERY_DEFAULT), thin_warn(false)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -103,10 +107,29 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
                    "fluid's continuity equation) or rheo (RHEO's wall image velocity): {}",
                    arg[iarg + 1]);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "thin/check") == 0) {
+      if (iarg + 2 >= narg) utils::missing_cmd_args(FLERR, "fix sph/fluid thin/check", error);
+      thin_every =
+          utils::is_integer(arg[iarg + 1]) ? utils::bnumeric(FLERR, arg[iarg + 1], false, lmp) : -1;
+      if (thin_every < 0)
+        error->all(FLERR, iarg + 1,
+                   "Fix sph/fluid thin/check must be a whole number of steps, 0 for the check "
+                   "at setup only: {}",
+                   arg[iarg + 1]);
+      if (strcmp(arg[iarg + 2], "error") == 0)
+        thin_warn = false;
+      else if (strcmp(arg[iarg + 2], "warn") == 0)
+        thin_warn = true;
+      else
+        error->all(FLERR, iarg + 2,
+                   "Fix sph/fluid thin/check N takes error or warn (what a finding in the run "
+                   "does; at setup it is always an error): {}",
+                   arg[iarg + 2]);
+      iarg += 3;
     } else {
       error->all(FLERR, iarg,
-                 "Unknown fix sph/fluid keyword: {} (it takes 'substeps N|auto' and "
-                 "'continuity body|rheo')",
+                 "Unknown fix sph/fluid keyword: {} (it takes 'substeps N|auto', "
+                 "'continuity body|rheo' and 'thin/check N error|warn')",
                  arg[iarg]);
     }
   }
@@ -249,7 +272,8 @@ void FixSPHFluid::init()
   mirrors = modify->get_fix_by_style("^sph/mirror$");
 
   // fluid pairs within fix rheo's cut and the twins beside them, for the
-  // thin-body check at setup (an occasional list, built there only)
+  // thin-body check (an occasional list, built at setup and every
+  // thin_every steps)
   neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL)
       ->set_cutoff(fix_rheo->cut + neighbor->skin);
   // the fluid-twin pairs of the continuity correction, from a half list as
@@ -573,6 +597,11 @@ void FixSPHFluid::end_of_step()
   show_accelerations(nsub > 1);
   if (nsub > 1) save_positions();
   if (continuity) continuity->save_step_start();
+  if (thin_every > 0 && update->ntimestep % thin_every == 0) {
+    neighbor->build_one(list);
+    thin_check->check(list, spacing, fmt::format("at step {}", update->ntimestep).c_str(),
+                      thin_warn);
+  }
 }
 
 void FixSPHFluid::show_accelerations(bool still)
@@ -798,7 +827,9 @@ void FixSPHFluid::check_setup()
   MPI_Allreduce(&vsum, &vsum_all, 1, MPI_DOUBLE, MPI_SUM, world);
   spacing = std::pow(vsum_all / (double) ntwins, 1.0 / domain->dimension);
 
-  check_thin_bodies(twin_all);
+  thin_check = std::make_unique<SPHThinBodyCheck>(lmp, id, twin_all, fix_rheo->cut);
+  neighbor->build_one(list);
+  thin_check->check(list, spacing, nullptr, false);
 }
 
 /* ----------------------------------------------------------------------
@@ -1003,177 +1034,6 @@ void FixSPHFluid::check_volumes(const std::vector<int> &fluid_type)
                  id, u, volume_fluid, mass, rho0[u], ratio, body.first, volume_body, cause, dim,
                  dim, update->unit_style);
     }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   a body thinner than fix rheo's cut with fluid on both sides: fluid
-   atoms on its two sides are neighbours of pair rheo, the pressure of one
-   side acts on the other side's fluid through the body, and the body
-   feels little of it.  Found as pairs of fluid atoms within the cut whose
-   segment crosses a body: it passes within half a spacing of a twin, at a
-   point P at least half a spacing from both ends, and the body goes on
-   beyond the segment on opposite sides: among the twins within cut/2 of
-   P, two whose offsets from P normal to the segment are at least MARGIN
-   long and point apart (cosine below OPPOSITE; in 2d, opposite signs).
-   A segment past a convex corner has the body on one side only; one that
-   cuts into a corner has only twins closer than MARGIN on the corner's
-   side: a chord of length cut whose ends lie a spacing outside two faces
-   at a right angle passes the corner atom at cut/2 - sqrt(2) dx at most,
-   below MARGIN = max(dx/2, cut/2 - dx).  Fluid on one side of a plate
-   makes no pairs across it.  Pairs at the cut to within CUT_SLACK (its
-   relative round-off: lattice sites a whole number of spacings apart) are
-   left out, their kernel weight being 0.  Each pair is tested on the rank
-   that owns its end nearer to P, whose list holds every twin within cut/2
-   of P (at setup, with the ghosts of a run).
-   The same pass measures the fluid's spacing: each fluid atom's nearest
-   fluid neighbour, on average, against the spacing of the volume m/rho0.
-   On a lattice they are equal; a fluid that has flowed has its particles
-   closer (0.76 spacings after the blob of python/tests/test_fsi.py hit
-   its body), never SPACING_RATIO_MAX farther apart, which fluid masses
-   set for a finer spacing than the fluid's lattice give (2 for a lattice
-   twice as coarse).  A fluid finer than its volume says is not tested
-   here: its volume then differs from the body's (check_volumes), the
-   body's volumes being its spacing's (checked by the pair style)
-------------------------------------------------------------------------- */
-
-void FixSPHFluid::check_thin_bodies(const std::vector<int> &twin_type)
-{
-  constexpr double OPPOSITE = -0.8;
-  constexpr double SPACING_RATIO_MAX = 1.5;
-  constexpr double CUT_SLACK = 1.0e-6;
-  auto *pair = PairSPHElastic::find(lmp);
-  neighbor->build_one(list);
-  const int *type = atom->type, *status = atom->rheo_status;
-  const tagint *tag = atom->tag;
-  double **x = atom->x;
-  const double cut = fix_rheo->cut, cutsq = cut * cut, dx = spacing, half = 0.5 * dx;
-  const double pairsq = cutsq * (1.0 - 2.0 * CUT_SLACK);
-  const double reach = 0.5 * cut, margin = std::max(0.5 * dx, 0.5 * cut - dx);
-  auto fluid = [&](int i) {
-    return !(status[i] & RHEO_NS::PHASECHECK) && !pair->solid_type(type[i]) && !twin_type[type[i]];
-  };
-  auto dot = [](const double *a, const double *b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  };
-
-  std::vector<int> twins;
-  std::vector<std::array<double, 3>> offsets;
-  double nearest[2] = {0.0, 0.0}, nearest_all[2];    // sum of distances, atoms
-  bigint nsee = 0, nsee_all = 0;                     // fluid atoms that see through a body
-  // the shortest such pair: atom IDs, length, P, thickness along it
-  double found[7] = {0.0, 0.0, HUGE_VAL, 0.0, 0.0, 0.0, 0.0};
-  std::vector<std::pair<double, int>> by_distance;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    if (!fluid(i)) continue;
-    twins.clear();
-    by_distance.clear();
-    double nearest2 = HUGE_VAL;
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      if (twin_type[type[j]]) {
-        twins.push_back(j);
-      } else if (fluid(j)) {
-        const double d[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
-        const double d2 = dot(d, d);
-        if (d2 < cutsq) nearest2 = std::min(nearest2, d2);
-        if (d2 < pairsq) by_distance.emplace_back(d2, j);
-      }
-    }
-    if (nearest2 < HUGE_VAL) {
-      nearest[0] += std::sqrt(nearest2);
-      nearest[1] += 1.0;
-    }
-    // the nearest fluid neighbours first: the first pair found is i's shortest
-    if (!twins.empty()) std::sort(by_distance.begin(), by_distance.end());
-    bool sees = false;
-    for (size_t jj = 0; jj < by_distance.size() && !sees && !twins.empty(); jj++) {
-      const int j = by_distance[jj].second;
-      const double e[3] = {x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]};
-      const double length = std::sqrt(dot(e, e));
-      const double u[3] = {e[0] / length, e[1] / length, e[2] / length};
-      for (int k : twins) {
-        const double d[3] = {x[k][0] - x[i][0], x[k][1] - x[i][1], x[k][2] - x[i][2]};
-        const double s = dot(d, u);
-        // P half a spacing inside both ends, and nearer to i (j's owner
-        // tests the other half of the segment)
-        if (s < half || s > length - half || s > 0.5 * length) continue;
-        const double p[3] = {x[i][0] + s * u[0], x[i][1] + s * u[1], x[i][2] + s * u[2]};
-        const double w[3] = {x[k][0] - p[0], x[k][1] - p[1], x[k][2] - p[2]};
-        if (dot(w, w) >= half * half) continue;
-        offsets.clear();
-        for (int q : twins) {
-          double v[3] = {x[q][0] - p[0], x[q][1] - p[1], x[q][2] - p[2]};
-          if (dot(v, v) > reach * reach) continue;
-          const double along = dot(v, u);
-          for (int a = 0; a < 3; a++) v[a] -= along * u[a];
-          if (dot(v, v) >= margin * margin) offsets.push_back({v[0], v[1], v[2]});
-        }
-        for (size_t a = 0; a < offsets.size() && !sees; a++)
-          for (size_t b = a + 1; b < offsets.size() && !sees; b++) {
-            const double ab = dot(offsets[a].data(), offsets[b].data());
-            const double aa = dot(offsets[a].data(), offsets[a].data());
-            const double bb = dot(offsets[b].data(), offsets[b].data());
-            sees = ab < OPPOSITE * std::sqrt(aa * bb);
-          }
-        if (!sees) continue;
-        if (length < found[2]) {
-          // the body's thickness along the pair: the extent of the twins
-          // on the segment, plus a spacing
-          double lo = HUGE_VAL, hi = -HUGE_VAL;
-          for (int q : twins) {
-            double v[3] = {x[q][0] - x[i][0], x[q][1] - x[i][1], x[q][2] - x[i][2]};
-            const double along = dot(v, u);
-            for (int a = 0; a < 3; a++) v[a] -= along * u[a];
-            if (along <= 0.0 || along >= length || dot(v, v) >= half * half) continue;
-            lo = std::min(lo, along);
-            hi = std::max(hi, along);
-          }
-          found[0] = (double) tag[i];
-          found[1] = (double) tag[j];
-          found[2] = length;
-          for (int a = 0; a < 3; a++) found[3 + a] = p[a];
-          found[6] = hi - lo + dx;
-        }
-        break;
-      }
-    }
-    if (sees) nsee++;
-  }
-  MPI_Allreduce(nearest, nearest_all, 2, MPI_DOUBLE, MPI_SUM, world);
-  nsee_all = SPHElastic::sum_all(nsee, world);
-
-  if (nearest_all[1] > 0.0) {
-    const double mean = nearest_all[0] / nearest_all[1];
-    const double ratio = mean / dx;
-    if (ratio > SPACING_RATIO_MAX)
-      error->all(FLERR, Error::NOLASTLINE,
-                 "Fix sph/fluid {}: the fluid particles are {:.4g} apart (the mean distance to "
-                 "the nearest one), {:.3g} times the spacing {:.4g} of their volume, mass over "
-                 "fix rheo density (the twins' and the bodies' volume too): were the fluid's "
-                 "masses set for another spacing than its lattice's?  Create the fluid on the "
-                 "bodies' spacing, with masses rho0 dx^{}",
-                 id, mean, ratio, dx, domain->dimension);
-  }
-
-  if (nsee_all > 0) {
-    const auto owner = SPHElastic::rank_max(-found[2], world);
-    MPI_Bcast(found, 7, MPI_DOUBLE, owner.rank, world);
-    const double thickness = found[6];
-    const int across = (int) std::lround(thickness / dx);
-    error->all(FLERR, Error::NOLASTLINE,
-               "Fix sph/fluid {}: fluid atoms {} and {}, {:.4g} apart within fix rheo's cut "
-               "{:.4g}, interact through a body near ({:.4g}, {:.4g}, {:.4g}), about {:.3g} "
-               "thick along their line ({} particle{} at the spacing {:.4g}); {} fluid atoms see "
-               "through a body so, and the fluid's pressure on one side acts on the fluid on "
-               "the other instead of on the body.  Where fluid lies on both sides, make the "
-               "body at least the cut thick ({} layers at this spacing), or refine fluid and "
-               "body together until it is",
-               id, (tagint) found[0], (tagint) found[1], found[2], cut, found[3], found[4],
-               found[5], thickness, across, across == 1 ? "" : "s", dx, nsee_all,
-               (int) std::ceil(cut / dx - 1.0e-6));
   }
 }
 

@@ -29,6 +29,7 @@ FixStyle(sph/fluid,FixSPHFluid);
 
 namespace LAMMPS_NS {
 
+class SPHThinBodyCheck;
 class SPHTwinContinuity;
 
 /* ----------------------------------------------------------------------
@@ -82,7 +83,7 @@ class FixSPHFluid : public Fix {
   double dtf;                        // half a step's velocity kick per force/mass
   double fsum[3], fall[3];           // fluid force on this rank's twins, all ranks'
   int fall_current;
-  class NeighList *list;    // occasional full list within fix rheo's cut, for check_thin_bodies()
+  class NeighList *list;         // occasional full list within fix rheo's cut, for thin_check
   class NeighList *half_list;    // perpetual half list, for the twins' continuity
   double spacing;                // the particle spacing V^(1/d) of the twins' volume V
 
@@ -112,6 +113,12 @@ class FixSPHFluid : public Fix {
   // continuity equation, set by this class) or rheo (RHEO's image velocity)
   bool continuity_body;
   std::unique_ptr<SPHTwinContinuity> continuity;
+  // bodies too thin for the fluid on their two sides, or fluid inside
+  // them: checked at setup and every thin_every steps of a run (keyword
+  // thin/check; 0: setup only), in the run an error or (thin_warn) a warning
+  std::unique_ptr<SPHThinBodyCheck> thin_check;
+  bigint thin_every;
+  bool thin_warn;
   enum { COMM_POSITIONS, COMM_DIFFERENCES } comm_stage;
 
   bool integrates(int i) const;
@@ -129,7 +136,6 @@ class FixSPHFluid : public Fix {
   std::vector<int> twin_types();
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
-  void check_thin_bodies(const std::vector<int> &twin_type);
   void check_fixes();
   void check_timestep();
 };
