@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import re
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -764,7 +765,27 @@ def gate_run(nprocs: int = 1, out: Path | None = None, **run) -> dict:
                          timeout=7200)
         rows = [list(map(float, line.split())) for line in series.read_text().splitlines()
                 if line and not line.startswith("#")]
-    return {**result.variables, "wall": result.wall, "series": rows}
+    return {**result.variables, "wall": result.wall, "series": rows,
+            **thin_findings(result.log, result.variables["dt"])}
+
+
+# fix sph/fluid's thin-body check in a run with thin/check N warn: the
+# kinds of finding, by a phrase of their messages
+_THIN_WARNING_RE = re.compile(r"^WARNING: Fix sph/fluid \S+ at step (\d+): (.*)$", re.M)
+THIN_KINDS = {"inside": "is inside a body", "through": "interact through a body",
+              "two_faces": "on opposite faces of its body"}
+
+
+def thin_findings(log: str, dt: float) -> dict:
+    """For each kind of the thin-body check's warnings in a run's log: the
+    checks that found it (thin_<kind>) and the time of the first (thin_<kind>_t,
+    None if none)."""
+    found = {}
+    for kind, phrase in THIN_KINDS.items():
+        steps = [int(m.group(1)) for m in _THIN_WARNING_RE.finditer(log) if phrase in m.group(2)]
+        found[f"thin_{kind}"] = len(steps)
+        found[f"thin_{kind}_t"] = steps[0] * dt if steps else None
+    return found
 
 
 def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None) -> list[dict]:
@@ -789,7 +810,8 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
             "steps": int(r["steps"]), "dt": r["dt"], "substeps": int(r["substeps"]),
             "wall": r["wall"], "mass_drift": r["mass1"] / r["mass0"] - 1.0,
             "dpx": (r["pwx1"] - r["pwx0"] - r["Ix"]) / r["Ig"],
-            "dpy": (r["pwy1"] - r["pwy0"] - r["Iy"]) / r["Ig"]}
+            "dpy": (r["pwy1"] - r["pwy0"] - r["Iy"]) / r["Ig"],
+            **{key: r[key] for key in r if key.startswith("thin_")}}
     if r["T"] < 0.15:
         t = r["T"]
         head = (f"{'':>44} {'ux(t)[mm]':>10} {'uy(t)[mm]':>10}   (t = {t:g} s)")
@@ -830,4 +852,14 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
           f"each, wall {base['wall']:.1f} s; mass drift {base['mass_drift']:.1e}, the water's "
           f"momentum against the impulse on it: {base['dpx']:+.1e} {base['dpy']:+.1e} (of "
           f"gravity's impulse)")
+    print(f"  fix sph/fluid's thin-body check (every 100 steps, warn): {thin_summary(base)}")
     return rows
+
+
+def thin_summary(r: dict) -> str:
+    """What thin_findings found, in words."""
+    words = {"inside": "water inside the gate", "through": "water pairs through it",
+             "two_faces": "twins with water on both faces"}
+    found = [f"{words[kind]} from t = {r[f'thin_{kind}_t']:.4f} s ({r[f'thin_{kind}']} checks)"
+             for kind in THIN_KINDS if r.get(f"thin_{kind}")]
+    return "; ".join(found) if found else "nothing found"

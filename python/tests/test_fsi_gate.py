@@ -98,3 +98,25 @@ def test_gate_agrees_on_1_2_and_4_ranks(tmp_path):
     for n in (1, 2, 4):
         assert runs[n]["mass1"] == runs[n]["mass0"]
         assert runs[n]["steps"] == runs[1]["steps"] == round(0.001 / runs[1]["dt"])
+
+
+@pytest.mark.slow
+def test_water_shot_into_the_tip_is_reported():
+    """fix sph/fluid's thin-body check in the run (the example's thin/check
+    100 warn): a water particle squeezed between the gate's tip and the
+    floor is shot into the tip at 10 m/s (studies/fsi_rheo 9.4, measured at
+    step 4400, 0.0442 s, 1 rank).  Table 10 reports it from the warnings:
+    none before, the inside finding at that check."""
+    from esph.validate import thin_findings
+    r = validate.gate_run(T=0.0446, every=100)
+    dt = r["dt"]
+    assert r["thin_inside_t"] == pytest.approx(4400 * dt, rel=1e-12)
+    assert r["thin_inside"] == 1
+    # the pair check sees the same particle as fluid across the tip
+    assert r["thin_through_t"] == pytest.approx(4400 * dt, rel=1e-12)
+    assert r["thin_two_faces"] == 0 and r["thin_two_faces_t"] is None
+    # and the run went on to T, with the findings only in its log
+    assert r["steps"] == round(0.0446 / dt)
+    assert thin_findings("", dt) == {"thin_inside": 0, "thin_inside_t": None,
+                                     "thin_through": 0, "thin_through_t": None,
+                                     "thin_two_faces": 0, "thin_two_faces_t": None}
