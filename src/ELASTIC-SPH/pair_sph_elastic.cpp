@@ -471,7 +471,8 @@ void PairSPHElastic::check_material()
 
 /* ----------------------------------------------------------------------
    the stable time step in the log whenever it or the timestep changes,
-   and a warning when the timestep of a run exceeds it
+   and a warning when the timestep of a run exceeds it (unless fix
+   sph/fluid integrates the bodies, which judges its own sub-step)
 ------------------------------------------------------------------------- */
 
 void PairSPHElastic::report_stable_dt()
@@ -490,7 +491,10 @@ void PairSPHElastic::report_stable_dt()
       style_name(), dt_unit, stable_fraction(), limit,
       dynamics ? fmt::format("; timestep {:.6g} = {:.3g} h/c", update->dt, update->dt / dt_unit)
                : std::string());
-  if (dynamics && update->dt > limit)
+  // fix sph/fluid may sub-step the bodies within the timestep, and checks
+  // its sub-step against this limit itself (an error there)
+  const bool fluid_coupled = !modify->get_fix_by_style("^sph/fluid$").empty();
+  if (dynamics && update->dt > limit && !fluid_coupled)
     error->warning(FLERR,
                    "Pair style {}: timestep {:.6g} exceeds the stable limit of about {:.2g} h/c = "
                    "{:.6g}: the run will blow up; use 'timestep {:.3g}' ({:.2g} h/c) or less",
