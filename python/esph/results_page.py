@@ -450,7 +450,10 @@ def validate_table10(data) -> list[str]:
     out += paragraph("``examples/fsi_gate``: RHEO's water column (0.1 x 0.14 m, at its "
                      "hydrostatic density) behind a rubber gate 5 mm thick, clamped by ``fix "
                      "sph/mirror`` above 0.079 m (E = 12 MPa, nu = 0.4, rho_s = 1100 kg/m^3, "
-                     "plane strain), coupled by ``create_sph_twins`` and ``fix sph/fluid``; dx "
+                     "plane strain), coupled by ``create_sph_twins`` and ``fix sph/fluid``, "
+                     "with a repulsive water-twin guard (LJ within 0.6 dx, ``-var guard``: "
+                     "without it water is shot into the gate's tip, ``studies/fsi_rheo/"
+                     "README.md`` 9.4); dx "
                      "= 5/3 mm (the gate 3 particles thick, RHEO's cut), the gate sub-stepped "
                      f"{r0['substeps']} times per fluid step.  {r0['atoms']} atoms ({r0['water']} "
                      f"water, {r0['gate']} in the gate), {r0['steps']} steps of "
@@ -469,10 +472,8 @@ def validate_table10(data) -> list[str]:
         found = r0.get("thin_inside") or r0.get("thin_through") or r0.get("thin_two_faces")
         out += paragraph("``fix sph/fluid``'s thin-body check, every 100 steps as warnings "
                          f"(``thin/check 100 warn``), up to T: {thin_summary(r0)}."
-                         + ("  A water particle squeezed between the gate's tip and the floor "
-                            "is shot into the tip, and water reaches both faces of the "
-                            "3-particle gate (``studies/fsi_rheo/README.md`` section 9.4); the "
-                            "tip's curve rests on a run with them." if found else ""))
+                         + ("  The tip's curve rests on a run with these (``studies/"
+                            "fsi_rheo/README.md`` section 9.4)." if found else ""))
     if "uxmax" in r0:
         curves = "ux_rms" in r0
         body = [["this (``examples/fsi_gate``)", mm(r0["uxmax"], 2), f"{r0['tpeak']:.3f}",

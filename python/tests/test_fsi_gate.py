@@ -103,12 +103,12 @@ def test_gate_agrees_on_1_2_and_4_ranks(tmp_path):
 @pytest.mark.slow
 def test_water_shot_into_the_tip_is_reported():
     """fix sph/fluid's thin-body check in the run (the example's thin/check
-    100 warn): a water particle squeezed between the gate's tip and the
-    floor is shot into the tip at 10 m/s (studies/fsi_rheo 9.4, measured at
+    100 warn), without the example's guard: a water particle squeezed
+    between the gate's tip and the floor is shot into the tip at 10 m/s (studies/fsi_rheo 9.4, measured at
     step 4400, 0.0442 s, 1 rank).  Table 10 reports it from the warnings:
     none before, the inside finding at that check."""
     from esph.validate import thin_findings
-    r = validate.gate_run(T=0.0446, every=100)
+    r = validate.gate_run(T=0.0446, every=100, guard=0)
     dt = r["dt"]
     assert r["thin_inside_t"] == pytest.approx(4400 * dt, rel=1e-12)
     assert r["thin_inside"] == 1
@@ -124,12 +124,13 @@ def test_water_shot_into_the_tip_is_reported():
 
 @pytest.mark.slow
 def test_guard_keeps_the_water_out_of_the_tip():
-    """The example's -var guard 0.6 (a repulsive LJ force between water and
-    twins within 0.6 spacings, handed to the gate like the fluid's): no
+    """The example's guard (-var guard 0.6, its default: a repulsive LJ
+    force between water and twins within 0.6 spacings, handed to the gate
+    like the fluid's): no
     finding of the thin-body check past the step where the water got in
     without it (measured: none to 0.1 s), and momentum still balanced to
     round-off (the guard's force on the twins goes to the gate)."""
-    r = validate.gate_run(T=0.0446, every=100, guard=0.6)
+    r = validate.gate_run(T=0.0446, every=100)
     assert r["thin_inside"] == r["thin_through"] == r["thin_two_faces"] == 0
     assert r["steps"] == round(0.0446 / r["dt"])
     assert abs(r["pwx1"] - r["pwx0"] - r["Ix"]) < 1e-11 * r["Ig"]
