@@ -128,12 +128,12 @@ create_atoms 1 region above
 # has the fluid on its two sides k + 1 and L - k spacings away, within the
 # reach of cut - dx/2 = 4.5 dx for some k up to L = 7
 ADVICE = "make the body at least 8 layers thick at this spacing"
-THIN = ["interact through a body near", "about 0.03 thick along their line (3 particles at "
-        "the spacing 0.01)", "within fix rheo's cut 0.05", ADVICE]
+THIN = ["interact through a body near", "about 0.03 thick (3 particles at the spacing 0.01) "
+        "along their line", "within fix rheo's cut 0.05", ADVICE]
 # the 5-layer plate: its layers 1 to 3 see the fluid on both sides within
 # 4.5 dx (2 and 4, 3 and 3, 4 and 2 spacings away)
-THIN_TWINS = ["on opposite faces of its body, about 0.05 thick there (5 particles at the "
-              "spacing 0.01)", "within fix rheo's cut 0.05", "carries the pressure of one side",
+THIN_TWINS = ["on opposite faces of its body, about 0.05 thick (5 particles at the spacing "
+              "0.01) there", "within fix rheo's cut 0.05", "carries the pressure of one side",
               ADVICE]
 
 

@@ -110,6 +110,43 @@ void SPHThinBodyCheck::report(const std::string &message)
 }
 
 /* ----------------------------------------------------------------------
+   the findings of all ranks: their number, and on every rank the nvalues
+   of found from the rank whose least is smallest (its finding to report)
+------------------------------------------------------------------------- */
+
+bigint SPHThinBodyCheck::gather(bigint mine, double least, double *found, int nvalues) const
+{
+  const bigint all = SPHElastic::sum_all(mine, world);
+  if (all == 0) return 0;
+  const auto owner = SPHElastic::rank_max(-least, world);
+  MPI_Bcast(found, nvalues, MPI_DOUBLE, owner.rank, world);
+  return all;
+}
+
+// " at step N" in the run, nothing at setup
+std::string SPHThinBodyCheck::where(const char *when)
+{
+  return when ? fmt::format(" {}", when) : std::string();
+}
+
+// a body's thickness, and in particles at the spacing
+std::string SPHThinBodyCheck::thickness_words(double thickness) const
+{
+  const int across = (int) std::lround(thickness / dx);
+  return fmt::format("about {:.3g} thick ({} particle{} at the spacing {:.4g})", thickness, across,
+                     across == 1 ? "" : "s", dx);
+}
+
+// what both thin-body findings advise
+std::string SPHThinBodyCheck::thickness_advice() const
+{
+  return fmt::format("Where fluid lies on both sides, make the body at least {} layers thick at "
+                     "this spacing (no twin within the cut of fluid on both sides), or refine "
+                     "fluid and body together until it is",
+                     layers_needed());
+}
+
+/* ----------------------------------------------------------------------
    does the segment from a to b cross a body?  It passes within half a
    spacing of a twin, at a point P at least half a spacing from both ends
    (if half_only, on the half nearer to a), and the body goes on beyond
@@ -224,10 +261,8 @@ void SPHThinBodyCheck::check_inside(NeighList *list, const char *when)
       found[4] = std::sqrt(dot(atom->v[i], atom->v[i]));
     }
   }
-  const bigint ninside_all = SPHElastic::sum_all(ninside, world);
+  const bigint ninside_all = gather(ninside, found[0], found, 5);
   if (ninside_all == 0) return;
-  const auto owner = SPHElastic::rank_max(-found[0], world);
-  MPI_Bcast(found, 5, MPI_DOUBLE, owner.rank, world);
   report(fmt::format(
       "Fix sph/fluid {}{}: fluid atom {} at ({:.4g}, {:.4g}, {:.4g}), moving at {:.3g}, "
       "is inside a body, among its twins ({} fluid atom{} so): the fluid went through "
@@ -235,8 +270,8 @@ void SPHThinBodyCheck::check_inside(NeighList *list, const char *when)
       "narrower than a spacing (between a body and a wall, or two bodies), or where the "
       "time step is too long for its speed: widen the gap, refine, or shorten the "
       "timestep",
-      fix_id, when ? fmt::format(" {}", when) : "", (tagint) found[0], found[1], found[2], found[3],
-      found[4], ninside_all, ninside_all == 1 ? "" : "s"));
+      fix_id, where(when), (tagint) found[0], found[1], found[2], found[3], found[4], ninside_all,
+      ninside_all == 1 ? "" : "s"));
 }
 
 /* ----------------------------------------------------------------------
@@ -322,23 +357,15 @@ void SPHThinBodyCheck::check_fluid_pairs(NeighList *list, bool with_spacing, con
                  fix_id, mean, mean / dx, dx, domain->dimension);
   }
 
-  const bigint nsee_all = SPHElastic::sum_all(nsee, world);
+  const bigint nsee_all = gather(nsee, found[2], found, 7);
   if (nsee_all == 0) return;
-  const auto owner = SPHElastic::rank_max(-found[2], world);
-  MPI_Bcast(found, 7, MPI_DOUBLE, owner.rank, world);
-  const double thickness = found[6];
-  const int across = (int) std::lround(thickness / dx);
   report(fmt::format(
       "Fix sph/fluid {}{}: fluid atoms {} and {}, {:.4g} apart within fix rheo's cut "
-      "{:.4g}, interact through a body near ({:.4g}, {:.4g}, {:.4g}), about {:.3g} thick "
-      "along their line ({} particle{} at the spacing {:.4g}); {} fluid atoms see "
-      "through a body so, and the fluid's pressure on one side acts on the fluid on the "
-      "other instead of on the body.  Where fluid lies on both sides, make the body at "
-      "least {} layers thick at this spacing (no twin within the cut of fluid on both "
-      "sides), or refine fluid and body together until it is",
-      fix_id, when ? fmt::format(" {}", when) : "", (tagint) found[0], (tagint) found[1], found[2],
-      cut, found[3], found[4], found[5], thickness, across, across == 1 ? "" : "s", dx, nsee_all,
-      layers_needed()));
+      "{:.4g}, interact through a body near ({:.4g}, {:.4g}, {:.4g}), {} along their line; "
+      "{} fluid atoms see through a body so, and the fluid's pressure on one side acts on "
+      "the fluid on the other instead of on the body.  {}",
+      fix_id, where(when), (tagint) found[0], (tagint) found[1], found[2], cut, found[3], found[4],
+      found[5], thickness_words(found[6]), nsee_all, thickness_advice()));
 }
 
 /* ----------------------------------------------------------------------
@@ -483,21 +510,13 @@ void SPHThinBodyCheck::check_twins(NeighList *list, const char *when)
     }
   }
 
-  const bigint nthin_all = SPHElastic::sum_all(nthin, world);
+  const bigint nthin_all = gather(nthin, found[0], found, 8);
   if (nthin_all == 0) return;
-  const auto owner = SPHElastic::rank_max(-found[0], world);
-  MPI_Bcast(found, 8, MPI_DOUBLE, owner.rank, world);
-  const double thickness = found[7];
-  const int across = (int) std::lround(thickness / dx);
   report(fmt::format(
       "Fix sph/fluid {}{}: twin atom {} at ({:.4g}, {:.4g}, {:.4g}) has fluid atoms {} and "
-      "{} within fix rheo's cut {:.4g} on opposite faces of its body, about {:.3g} thick "
-      "there ({} particle{} at the spacing {:.4g}); {} twins see both sides so.  RHEO "
-      "takes a solid particle's pressure from all fluid within the cut, so such a twin "
-      "carries the pressure of one side to the fluid on the other.  Where fluid lies on "
-      "both sides, make the body at least {} layers thick at this spacing, or refine "
-      "fluid and body together until it is",
-      fix_id, when ? fmt::format(" {}", when) : "", (tagint) found[1], found[4], found[5], found[6],
-      (tagint) found[2], (tagint) found[3], cut, thickness, across, across == 1 ? "" : "s", dx,
-      nthin_all, layers_needed()));
+      "{} within fix rheo's cut {:.4g} on opposite faces of its body, {} there; {} twins "
+      "see both sides so.  RHEO takes a solid particle's pressure from all fluid within the "
+      "cut, so such a twin carries the pressure of one side to the fluid on the other.  {}",
+      fix_id, where(when), (tagint) found[1], found[4], found[5], found[6], (tagint) found[2],
+      (tagint) found[3], cut, thickness_words(found[7]), nthin_all, thickness_advice()));
 }

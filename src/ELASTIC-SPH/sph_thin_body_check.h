@@ -67,6 +67,10 @@ class SPHThinBodyCheck : protected Pointers {
   bool crosses_body(const double *a, const double *b, const std::vector<int> &twins,
                     double *p) const;
   bool exit_normal(int t, const double *f, const std::vector<int> &twins, double *normal) const;
+  bigint gather(bigint mine, double least, double *found, int nvalues) const;
+  static std::string where(const char *when);
+  std::string thickness_words(double thickness) const;
+  std::string thickness_advice() const;
   int layers_needed() const;
   double thickness_along(const double *a, const double *b, const std::vector<int> &twins) const;
 };
