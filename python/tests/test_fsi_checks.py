@@ -258,6 +258,35 @@ def test_missing_rheo_pressure_is_an_error(tmp_path):
     assert "Fix sph/fluid needs fix rheo/pressure" in error
 
 
+# neigh_modify exclusions that hide the twins (type 3) from the fluid (type
+# 1, group fluid) or from each other, added after the blob's own (1 2 and 2
+# 3, which hide the elastic atoms, as they should)
+EXCLUSIONS = {
+    "fluid_twin_type": ("neigh_modify exclude type 1 3\n",
+                        "'neigh_modify exclude type 1 3' hides the twins of type 3 from the fluid "
+                        "of type 1; twins must see the fluid and each other"),
+    "twin_twin_type": ("neigh_modify exclude type 3 3\n",
+                       "'neigh_modify exclude type 3 3' hides the twins of type 3 from the twins"),
+    "fluid_twin_group": ("group twins type 3\nneigh_modify exclude group fluid twins\n",
+                         "'neigh_modify exclude group fluid twins' hides twins from the fluid or "
+                         "from each other"),
+    # (molecule/intra all would also hide the body's atoms from each other:
+    # fix sph/partners stops first)
+    "molecule": ("group twins type 3\nneigh_modify exclude molecule/intra twins\n",
+                 "'neigh_modify exclude molecule/intra twins' takes in twins"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(EXCLUSIONS))
+def test_exclusions_hiding_the_twins_are_an_error(tmp_path, case):
+    """Twins hidden from the fluid let it run through the body unseen;
+    twins hidden from each other leave the thin-body check blind (it takes
+    a twin's outward normal from its twin neighbours)."""
+    commands, message = EXCLUSIONS[case]
+    error = refused(tmp_path, blob_script() + commands, "run 1")
+    assert message in error, error
+
+
 def test_missing_twins_is_an_error(tmp_path):
     """Without create_sph_twins the fluid would run through the body."""
     script = edit(blob_script(), ("create_sph_twins body 3 \n", ""))

@@ -48,6 +48,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <string>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -758,6 +759,8 @@ void FixSPHFluid::check_setup()
                    id, e, t, e, t);
   }
 
+  check_exclusions(twin_all, fluid_all);
+
   // the twins' types hold twins only: fix sph/fluid's continuity takes
   // every atom of them, ghosts included, for a twin
   tagint other = 0, other_all = 0;
@@ -830,6 +833,61 @@ void FixSPHFluid::check_setup()
   thin_check = std::make_unique<SPHThinBodyCheck>(lmp, id, twin_all, fix_rheo->cut);
   neighbor->build_one(list);
   thin_check->check(list, spacing, nullptr, false);
+}
+
+/* ----------------------------------------------------------------------
+   neigh_modify exclusions that hide twins from the fluid, which would then
+   run through the body unseen, or from each other, which leaves the
+   thin-body check without the twins' outward normals (it takes them from
+   a twin's twin neighbours)
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::check_exclusions(const std::vector<int> &twin_type,
+                                   const std::vector<int> &fluid_type)
+{
+  const int ntypes = atom->ntypes;
+  auto whom = [&](int t) {
+    return twin_type[t] ? std::string("the twins") : fmt::format("the fluid of type {}", t);
+  };
+  for (int t = 1; t <= ntypes; t++) {
+    if (!twin_type[t]) continue;
+    for (int u = 1; u <= ntypes; u++)
+      if ((fluid_type[u] || twin_type[u]) && excluded(neighbor, t, u))
+        error->all(FLERR, Error::NOLASTLINE,
+                   "Fix sph/fluid {}: 'neigh_modify exclude type {} {}' hides the twins of type "
+                   "{} from {}; twins must see the fluid and each other: remove the exclusion "
+                   "(exclude the elastic types, not their twins)",
+                   id, std::min(t, u), std::max(t, u), t, whom(u));
+  }
+
+  // group and molecule exclusions, by the groups twins and fluid atoms are in
+  int bits[2] = {0, 0}, bits_all[2];
+  const int *mask = atom->mask, *type = atom->type, *src = atom->ivector[itwin];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (src[i])
+      bits[0] |= mask[i];
+    else if (fluid_type[type[i]])
+      bits[1] |= mask[i];
+  }
+  MPI_Allreduce(bits, bits_all, 2, MPI_INT, MPI_BOR, world);
+  const int twins = bits_all[0], seen = bits_all[0] | bits_all[1];
+  for (int m = 0; m < neighbor->nex_group; m++) {
+    const int a = neighbor->ex1_bit[m], b = neighbor->ex2_bit[m];
+    if (((twins & a) && (seen & b)) || ((twins & b) && (seen & a)))
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix sph/fluid {}: 'neigh_modify exclude group {} {}' hides twins from the "
+                 "fluid or from each other; twins must see both: remove the exclusion, or keep "
+                 "the twins out of its groups",
+                 id, group->names[neighbor->ex1_group[m]], group->names[neighbor->ex2_group[m]]);
+  }
+  for (int m = 0; m < neighbor->nex_mol; m++)
+    if (twins & neighbor->ex_mol_bit[m])
+      error->all(FLERR, Error::NOLASTLINE,
+                 "Fix sph/fluid {}: 'neigh_modify exclude molecule/{} {}' takes in twins, and "
+                 "hides them from the fluid or from each other; twins must see both: keep the "
+                 "twins out of its group",
+                 id, neighbor->ex_mol_intra[m] ? "intra" : "inter",
+                 group->names[neighbor->ex_mol_group[m]]);
 }
 
 /* ----------------------------------------------------------------------

@@ -136,6 +136,7 @@ class FixSPHFluid : public Fix {
   std::vector<int> twin_types();
   void check_setup();
   void check_volumes(const std::vector<int> &fluid_type);
+  void check_exclusions(const std::vector<int> &twin_type, const std::vector<int> &fluid_type);
   void check_fixes();
   void check_timestep();
 };
