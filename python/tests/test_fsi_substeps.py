@@ -275,3 +275,5 @@ def test_unstable_substeps_are_named_in_the_error(tmp_path):
             out = run_mpi(script, variables, 1)
             assert "Fix sph/fluid fsi: 4 sub-steps" in out.log
             assert math.isfinite(out.variables["wcol"])
+            # the number auto chose, as the fix's output (f_fsi[4])
+            assert out.variables["substeps"] == 4

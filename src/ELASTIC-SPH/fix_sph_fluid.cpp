@@ -138,10 +138,13 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid requires atom_style hybrid rheo sph/elastic (RHEO's status and "
                "sph/elastic's reference positions)");
+  // the fluid's force on the twins (extensive), then the sub-steps per
+  // step of this run (intensive), for inputs that choose them by 'auto'
   vector_flag = 1;
-  size_vector = 3;
+  size_vector = 4;
   global_freq = 1;
-  extvector = 1;
+  extvector = -1;
+  extlist = new int[size_vector]{1, 1, 1, 0};
   // positions (3), or the twins' gradient differences (dim x dim)
   comm_forward = std::max(3, domain->dimension * domain->dimension);
   comm_reverse = comm_forward;
@@ -153,6 +156,7 @@ FixSPHFluid::~FixSPHFluid()
   memory->destroy(xsave);
   memory->destroy(vmean);
   memory->destroy(fsave);
+  delete[] extlist;
 }
 
 /* ----------------------------------------------------------------------
@@ -626,11 +630,13 @@ void FixSPHFluid::show_accelerations(bool still)
 }
 
 /* ----------------------------------------------------------------------
-   the fluid's force on this fix's twins, summed over the ranks
+   the fluid's force on this fix's twins, summed over the ranks; the
+   sub-steps per step
 ------------------------------------------------------------------------- */
 
 double FixSPHFluid::compute_vector(int n)
 {
+  if (n == 3) return nsub;
   if (!fall_current) {
     MPI_Allreduce(fsum, fall, 3, MPI_DOUBLE, MPI_SUM, world);
     fall_current = 1;
