@@ -72,6 +72,25 @@ def test_renderer_formats_a_synthetic_validation(tmp_path):
     assert "Table 5" not in text and "Speed" not in text
 
 
+def test_renderer_formats_the_gate_with_sphinxsys_inputs(tmp_path):
+    """Table 10b: ours, SPHinXsys's run and the experiment, the differences
+    as percentages of theirs."""
+    row = {"table": "10b", "problem": "fsi_gate", "E": 7.8e6, "nu": 0.47, "law": "svk",
+           "substeps": 6, "steps": 20000, "wall": 800.0, "uxmax": 0.0418, "tpeak": 0.1136,
+           "uymax": 0.0160, "uxmax_sphinxsys": 0.0440, "uymax_sphinxsys": 0.0196,
+           "uxmax_experiment": 0.0464, "tpeak_experiment": 0.161}
+    (tmp_path / "validate_gate.json").write_text(json.dumps([row]))
+    (tmp_path / "sources.json").write_text(json.dumps({"validate_gate.json": {
+        "kind": "validate_gate", "command": "python -m esph validate --full --tables g",
+        "date": "2026-11-28", "machine": "testbox, 2 cores"}}))
+    text = results_page.render(tmp_path)
+    flat = " ".join(text.split())
+    assert "Table 10b: the elastic gate with SPHinXsys's inputs" in text
+    assert "E = 7.8 MPa, nu = 0.47, svk" in flat and "6 sub-steps, 20000 steps" in flat
+    assert "41.80" in text and "44.00" in text and "46.40" in text
+    assert "-5.0 %" in text and "-9.9 %" in text      # 41.8/44 - 1, 41.8/46.4 - 1
+
+
 def test_formatters():
     assert results_page.pct(0.00014) == "+0.014 %"
     assert results_page.pct(-0.0765, 2) == "-7.65 %"
