@@ -47,6 +47,22 @@ def test_gate_pushed_downstream(short_run):
     assert abs(r["uy1"]) < 0.1 * r["ux1"]
 
 
+def test_gate_with_sphinxsys_inputs_wiring(monkeypatch, tmp_path):
+    """Table 10b over its first 0.002 s: the example takes SPHinXsys's
+    material (svk, nu 0.47) and fix sph/fluid's substeps auto, which needs 5
+    sub-steps for that gate's sound speed (1.35 times the default gate's;
+    the default takes 4), and the row carries SPHinXsys's values from the
+    data file.  The full run is scripts/validate --full."""
+    monkeypatch.setitem(validate.GATE_RUN, True, {"T": 0.002})
+    (row,) = validate.table10_same_inputs(out=tmp_path, progress=lambda *a: None)
+    ref = validate.gate_reference()["sphinxsys"]
+    assert row["table"] == "10b" and row["law"] == "svk" and row["nu"] == 0.47
+    assert row["substeps"] == 5
+    assert row["uxmax_sphinxsys"] == ref["peak_ux"]
+    assert 0.0 < row["uxmax"] < 1e-3
+    assert (tmp_path / "sphinxsys_material" / "gate_tip.dat").exists()
+
+
 def test_initial_force_is_hydrostatic(short_run):
     """At step 0 the twins carry the water's hydrostatic push on the gate
     (measured 76.15 N against 76.97 N: the first fluid layer sits dx/2 off
