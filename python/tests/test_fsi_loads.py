@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from test_fsi import ATOMS, COUPLE, HEAD, PAIR, RHEO, START, TWINS
+from test_fsi import COUPLE, HEAD, PAIR, RHEO, START, TWINS
 
 # a second block, molecule 2, 1 cm (one spacing) left of test_fsi's block:
 # the block and the blob move in -x
