@@ -455,7 +455,12 @@ def validate_table10(data) -> list[str]:
                      "without it water is shot into the gate's tip, ``studies/fsi_rheo/"
                      "README.md`` 9.4); dx "
                      "= 5/3 mm (the gate 3 particles thick, RHEO's cut), the gate sub-stepped "
-                     f"{r0['substeps']} times per fluid step.  {r0['atoms']} atoms ({r0['water']} "
+                     f"{r0['substeps']} times per fluid step"
+                     + (f", the fluid's speed of sound c_f = {r0['cfac']:g} sqrt(2 g H) and "
+                        f"pair rheo's artificial viscosity {r0['av']:g} (``-var cfac``, ``-var "
+                        "av``: the peak converges in c_f at a fixed av c_f, "
+                        "``studies/fsi_rheo/README.md`` 9.6)" if "cfac" in r0 else "")
+                     + f".  {r0['atoms']} atoms ({r0['water']} "
                      f"water, {r0['gate']} in the gate), {r0['steps']} steps of "
                      f"{r0['dt']:.3g} s to T = {r0['T']:.3g} s in {r0['wall']:.0f} s of wall "
                      "time.  Tip: the gate's free end, its downstream corner.  The references "
@@ -702,10 +707,13 @@ def validate_table10b(data) -> list[str]:
                      f"{r['wall']:.0f} s of wall time). SPHinXsys's value is the largest "
                      "excursion of its observer (the gate's free downstream corner, "
                      "interpolated) over its 0.4 s, without a time; the experiment's is its "
-                     "largest digitised point.  The fluid is the example's, whose speed of "
-                     "sound (10 sqrt(2 g H)) is below SPHinXsys's (20 sqrt(g H)): what that "
-                     "and the spacing change is measured in ``studies/fsi_rheo/README.md`` "
-                     "section 9.5.")
+                     "largest digitised point.  The fluid is the example's"
+                     + (f" (c_f = {r['cfac']:g} sqrt(2 g H), artificial viscosity {r['av']:g})"
+                        if "cfac" in r else "")
+                     + "; SPHinXsys's is a Riemann solver's with c_f = 20 sqrt(g H) = 14.1 "
+                     "sqrt(2 g H): what the speed of sound, the artificial viscosity and the "
+                     "spacing change is measured in ``studies/fsi_rheo/README.md`` sections "
+                     "9.5 and 9.6.")
     if "thin_inside" in r:
         from .validate import thin_summary
         out += paragraph(f"``fix sph/fluid``'s thin-body check up to T: {thin_summary(r)}.")

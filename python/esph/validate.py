@@ -800,7 +800,8 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
           f"0.079 m, E = {ref['material']['used']['E']:g} Pa, nu = "
           f"{ref['material']['used']['nu']:g}, rho_s = {ref['material']['used']['rho_s']:g}; "
           f"dx = 5/3 mm, the gate 3 particles thick, at the fluid's step with sub = the gate's "
-          f"sub-steps), T = {run['T']:g} s.  Tip = the gate's free end, downstream corner; "
+          f"sub-steps; the fluid's c_f and pair rheo's artificial viscosity as the example's "
+          f"defaults), T = {run['T']:g} s.  Tip = the gate's free end, downstream corner; "
           f"references digitised (python/esph/data/elastic_gate.json: the experiment as "
           f"digitised in Ng et al. 2020, via dineshadepu/fsi_etvf)")
     progress(f"[esph] elastic gate, T = {run['T']:g} s ...")
@@ -810,6 +811,7 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
     base = {"table": "10", "problem": "fsi_gate", "dx": 0.005 / 3, "T": r["T"],
             "atoms": int(r["atoms"]), "water": int(r["water"]), "gate": int(r["gate"]),
             "steps": int(r["steps"]), "dt": r["dt"], "substeps": int(r["substeps"]),
+            "cfac": r["cfac"], "av": r["av"],
             "wall": r["wall"], "mass_drift": r["mass1"] / r["mass0"] - 1.0,
             "dpx": (r["pwx1"] - r["pwx0"] - r["Ix"]) / r["Ig"],
             "dpy": (r["pwy1"] - r["pwy0"] - r["Iy"]) / r["Ig"],
@@ -851,7 +853,8 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
               f"{'-':>11} {1e3 * s['peak_uy']:10.3f}")
     print(f"  atoms {base['atoms']} (water {base['water']}, gate {base['gate']}), "
           f"{base['steps']} steps of {base['dt']:.3g} s, {base['substeps']} gate sub-steps "
-          f"each, wall {base['wall']:.1f} s; mass drift {base['mass_drift']:.1e}, the water's "
+          f"each, c_f = {base['cfac']:g} sqrt(2 g H), artificial viscosity {base['av']:g}, "
+          f"wall {base['wall']:.1f} s; mass drift {base['mass_drift']:.1e}, the water's "
           f"momentum against the impulse on it: {base['dpx']:+.1e} {base['dpy']:+.1e} (of "
           f"gravity's impulse)")
     print(f"  fix sph/fluid's thin-body check (every 100 steps, warn): {thin_summary(base)}")
@@ -886,6 +889,7 @@ def table10_same_inputs(nprocs: int = 1, progress=print, out: Path | None = None
     row = {"table": "10b", "problem": "fsi_gate", "dx": 0.005 / 3, "T": r["T"],
            "E": m["E"], "nu": m["nu"], "law": m["law"], "atoms": int(r["atoms"]),
            "steps": int(r["steps"]), "dt": r["dt"], "substeps": int(r["substeps"]),
+           "cfac": r["cfac"], "av": r["av"],
            "wall": r["wall"], "uxmax": r["uxmax"], "tpeak": r["tpeak"], "uymax": r["uymax"],
            "uxmax_sphinxsys": s["peak_ux"], "uymax_sphinxsys": s["peak_uy"],
            "uxmax_experiment": ux_exp, "tpeak_experiment": t_exp,
