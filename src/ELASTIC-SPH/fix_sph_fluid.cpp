@@ -37,8 +37,10 @@
 #include "neigh_request.h"
 #include "neighbor.h"
 #include "pair_sph_icb.h"
+#include "sph_density_predictor.h"
 #include "sph_elastic_mpi.h"
 #include "sph_fix_rules.h"
+#include "sph_interface_viscosity.h"
 #include "sph_thin_body_check.h"
 #include "sph_twin_continuity.h"
 #include "update.h"
@@ -78,7 +80,8 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
     dtf(0.0), fsum{0.0, 0.0, 0.0}, fall{0.0, 0.0, 0.0}, fall_current(0), list(nullptr),
     half_list(nullptr), spacing(0.0), substeps(1), nsub(1), estore(nullptr), nmax_work(0),
     xsave(nullptr), vmean(nullptr), fsave(nullptr), continuity_body(true),
-    comm_stage(COMM_POSITIONS), thin_every(THIN_EVERY_DEFAULT), thin_warn(false)
+    thin_every(THIN_EVERY_DEFAULT), thin_warn(false), predict_density(true), interface_av(0.0),
+    full_list(nullptr), comm_stage(COMM_POSITIONS)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -127,10 +130,33 @@ FixSPHFluid::FixSPHFluid(LAMMPS *lmp, int narg, char **arg) :
                    "does; at setup it is always an error): {}",
                    arg[iarg + 2]);
       iarg += 3;
+    } else if (strcmp(arg[iarg], "pressure/density") == 0) {
+      if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "fix sph/fluid pressure/density", error);
+      if (strcmp(arg[iarg + 1], "full") == 0)
+        predict_density = true;
+      else if (strcmp(arg[iarg + 1], "half") == 0)
+        predict_density = false;
+      else
+        error->all(FLERR, iarg + 1,
+                   "Fix sph/fluid pressure/density must be full (the fluid's pressure in the "
+                   "force from the density of the step) or half (fix rheo's half-step "
+                   "density): {}",
+                   arg[iarg + 1]);
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "interface/visc") == 0) {
+      if (iarg + 1 >= narg) utils::missing_cmd_args(FLERR, "fix sph/fluid interface/visc", error);
+      interface_av = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(interface_av >= 0.0))
+        error->all(FLERR, iarg + 1,
+                   "Fix sph/fluid interface/visc must be an artificial viscosity coefficient "
+                   ">= 0 (pair rheo's artificial/visc; 0 for none): {}",
+                   arg[iarg + 1]);
+      iarg += 2;
     } else {
       error->all(FLERR, iarg,
                  "Unknown fix sph/fluid keyword: {} (it takes 'substeps N|auto', "
-                 "'continuity body|rheo' and 'thin/check N error|warn')",
+                 "'continuity body|rheo', 'thin/check N error|warn', 'pressure/density "
+                 "full|half' and 'interface/visc AV')",
                  arg[iarg]);
     }
   }
@@ -191,6 +217,9 @@ void FixSPHFluid::post_constructor()
     estore = static_cast<FixStoreAtom *>(
         modify->add_fix(fmt::format("{} {} STORE/ATOM 9 0 0 0", estore_id, group->names[igroup])));
   }
+  if (predict_density)
+    density_predictor = std::make_unique<SPHDensityPredictor>(
+        lmp, std::string(id) + "_DENSITY_STEP", group->names[igroup]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -245,6 +274,11 @@ void FixSPHFluid::init()
                "Fix sph/fluid needs fix rheo's kernel quintic or wendland/c4: with the RK "
                "kernels the fluid's force on a twin and the twin's on the fluid are not equal "
                "and opposite (momentum is not conserved)");
+  if (predict_density && fix_rheo->rhosum_flag)
+    error->all(FLERR, Error::NOLASTLINE,
+               "Fix sph/fluid pressure/density full needs fix rheo's continuity equation: fix "
+               "rheo {} sums its density (rho/sum); use 'pressure/density half'",
+               fix_rheo->id);
   if (!fix_rheo->interface_flag)
     error->all(FLERR, Error::NOLASTLINE,
                "Fix sph/fluid needs 'interface/reconstruct' in fix rheo {}: without it the "
@@ -291,6 +325,13 @@ void FixSPHFluid::init()
     continuity->set_twin_types(twin_types());
     neighbor->add_request(this)->set_id(1);
   }
+  // the fluid-solid pairs of the interface's artificial viscosity: a
+  // perpetual full list, each rank adding the force to its owned atoms
+  interface_visc.reset();
+  if (interface_av > 0.0) {
+    interface_visc = std::make_unique<SPHInterfaceViscosity>(lmp, fix_rheo, interface_av);
+    neighbor->add_request(this, NeighConst::REQ_FULL)->set_id(2);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -299,6 +340,8 @@ void FixSPHFluid::init_list(int id, NeighList *ptr)
 {
   if (id == 1)
     half_list = ptr;
+  else if (id == 2)
+    full_list = ptr;
   else
     list = ptr;
 }
@@ -423,7 +466,9 @@ void FixSPHFluid::setup(int /*vflag*/)
     store_elastic_forces();
     save_positions();
   }
+  add_interface_viscosity();
   hand_back_forces();
+  if (density_predictor) density_predictor->clear();
   show_accelerations(nsub > 1);
   if (continuity) continuity->save_step_start();
 }
@@ -518,6 +563,7 @@ void FixSPHFluid::check_timestep()
 void FixSPHFluid::post_integrate()
 {
   sync_twins(true);
+  if (density_predictor) density_predictor->predict(fix_rheo, groupbit);
 }
 
 /* ----------------------------------------------------------------------
@@ -554,7 +600,20 @@ void FixSPHFluid::mark_no_integration()
 
 void FixSPHFluid::post_force(int /*vflag*/)
 {
+  add_interface_viscosity();
   hand_back_forces();
+  if (density_predictor) density_predictor->restore();
+}
+
+/* ----------------------------------------------------------------------
+   keyword interface/visc: the fluid-solid pairs' artificial viscosity,
+   before the twins' forces go to their sources (and before fix setforce
+   zeroes the walls', which it reports)
+------------------------------------------------------------------------- */
+
+void FixSPHFluid::add_interface_viscosity()
+{
+  if (interface_visc) interface_visc->add_forces(full_list, groupbit);
 }
 
 void FixSPHFluid::hand_back_forces()

@@ -29,6 +29,8 @@ FixStyle(sph/fluid,FixSPHFluid);
 
 namespace LAMMPS_NS {
 
+class SPHDensityPredictor;
+class SPHInterfaceViscosity;
 class SPHThinBodyCheck;
 class SPHTwinContinuity;
 
@@ -119,6 +121,16 @@ class FixSPHFluid : public Fix {
   std::unique_ptr<SPHThinBodyCheck> thin_check;
   bigint thin_every;
   bool thin_warn;
+  // keyword pressure/density: full (the force sees the step's density,
+  // SPHDensityPredictor) or half (fix rheo's half-step density)
+  bool predict_density;
+  std::unique_ptr<SPHDensityPredictor> density_predictor;
+  // keyword interface/visc: pair rheo's artificial viscosity between fluid
+  // and solid atoms (walls and twins), which pair rheo leaves out with
+  // fix rheo's interface reconstruction; 0 for none
+  double interface_av;
+  std::unique_ptr<SPHInterfaceViscosity> interface_visc;
+  class NeighList *full_list;    // perpetual full list, for interface_visc
   enum { COMM_POSITIONS, COMM_DIFFERENCES } comm_stage;
 
   bool integrates(int i) const;
@@ -131,6 +143,7 @@ class FixSPHFluid : public Fix {
   int source_of(int i, const char *when);
   void sync_twins(bool positions);
   void hand_back_forces();
+  void add_interface_viscosity();
   void show_accelerations(bool still);
   void correct_continuity(bool at_step_start);
   std::vector<int> twin_types();

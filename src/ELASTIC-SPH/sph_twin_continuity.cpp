@@ -33,38 +33,24 @@
 #include "error.h"
 #include "fix_rheo.h"
 #include "force.h"
-#include "math_const.h"
 #include "memory.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "sph_rheo_kernel.h"
 #include "update.h"
 
 #include <algorithm>
 #include <cmath>
 
 using namespace LAMMPS_NS;
-using MathConst::MY_PI;
 
 /* ---------------------------------------------------------------------- */
 
 SPHTwinContinuity::SPHTwinContinuity(LAMMPS *lmp, FixRHEO *rheo) :
     Pointers(lmp), delta(nullptr), ncomm(domain->dimension * domain->dimension), fix_rheo(rheo),
     nmax(0), xstart(nullptr), rhostart(nullptr), marked(nullptr), pairs_builds(-1), pairs_nall(-1),
-    kernel_norm(0.0)
+    kernel(rheo, domain->dimension, error, "Fix sph/fluid continuity body")
 {
-  // the kernels' normalisations, as fix rheo's cut sets them: the quintic
-  // spline of h = cut/3, the Wendland C4 of support cut
-  const double cut = fix_rheo->cut;
-  const bool three_d = domain->dimension == 3;
-  if (fix_rheo->kernel_style == RHEO_NS::QUINTIC) {
-    const double h = cut / 3.0;
-    kernel_norm = three_d ? 1.0 / (120.0 * MY_PI * h * h * h) : 7.0 / (478.0 * MY_PI * h * h);
-  } else if (fix_rheo->kernel_style == RHEO_NS::WENDLANDC4) {
-    kernel_norm = three_d ? 495.0 / (32.0 * MY_PI * cut * cut * cut) : 9.0 / (MY_PI * cut * cut);
-  } else {
-    error->all(FLERR, Error::NOLASTLINE,
-               "Fix sph/fluid continuity body needs fix rheo's kernel quintic or wendland/c4");
-  }
 }
 
 SPHTwinContinuity::~SPHTwinContinuity()
@@ -81,33 +67,6 @@ void SPHTwinContinuity::set_twin_types(const std::vector<int> &types)
 {
   twin_type = types;
   pairs_builds = -1;
-}
-
-/* ----------------------------------------------------------------------
-   dW/dr of fix rheo's kernel
-------------------------------------------------------------------------- */
-
-double SPHTwinContinuity::kernel_slope(double r) const
-{
-  const double cut = fix_rheo->cut;
-  if (fix_rheo->kernel_style == RHEO_NS::QUINTIC) {
-    // W = norm ((3-s)^5 - 6 (2-s)^5 + 15 (1-s)^5), each term where positive
-    const double s = 3.0 * r / cut;
-    double slope = 0.0;
-    const double terms[3][2] = {{3.0, -5.0}, {2.0, 30.0}, {1.0, -75.0}};
-    for (const auto &term : terms) {
-      const double t = term[0] - s;
-      if (t > 0.0) slope += term[1] * t * t * t * t;
-    }
-    return kernel_norm * slope * 3.0 / cut;
-  }
-  // Wendland C4: W = norm (1-s)^6 (1 + 6 s + 35/3 s^2) for s < 1
-  const double s = r / cut;
-  if (s >= 1.0) return 0.0;
-  const double t = 1.0 - s, t5 = t * t * t * t * t;
-  const double dwds =
-      t5 * (t * (6.0 + 70.0 / 3.0 * s) - 6.0 * (1.0 + 6.0 * s + 35.0 / 3.0 * s * s));
-  return kernel_norm * dwds / cut;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -224,7 +183,7 @@ void SPHTwinContinuity::add_differences(bool at_step_start)
     const double p = std::max(2.0 * cut * (chi[t] - 0.5), 0.0) /
         std::max(2.0 * cut * (chi[f] - 0.5), image_floor);
     const double volume = (rmass ? rmass[t] : mass[type[t]]) / std::max(rho0[type[t]], rho[t]);
-    const double scale = volume * kernel_slope(r) / r;
+    const double scale = volume * kernel.slope(r) / r;
     touch(f);
     for (int a = 0; a < dim; a++) {
       const double dv = v[t][a] - p * (v[t][a] - v[f][a]);

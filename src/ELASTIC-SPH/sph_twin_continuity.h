@@ -15,6 +15,7 @@
 #define LMP_SPH_TWIN_CONTINUITY_H
 
 #include "pointers.h"
+#include "sph_rheo_kernel.h"
 
 #include <utility>
 #include <vector>
@@ -82,13 +83,12 @@ class SPHTwinContinuity : protected Pointers {
   std::vector<std::pair<int, int>> pairs;    // (fluid, twin) within cut + skin
   bigint pairs_builds;
   int pairs_nall;
-  double kernel_norm;    // the normalisation of fix rheo's kernel, per its cut
+  SPHRHEOKernel kernel;
 
   bool fluid(int i) const;
   bool integrated(int i) const;
   void grow();
   void touch(int i);
-  double kernel_slope(double r) const;
 };
 
 }    // namespace LAMMPS_NS
