@@ -460,6 +460,11 @@ def validate_table10(data) -> list[str]:
                         f"pair rheo's artificial viscosity {r0['av']:g} (``-var cfac``, ``-var "
                         "av``: the peak converges in c_f at a fixed av c_f, "
                         "``studies/fsi_rheo/README.md`` 9.6)" if "cfac" in r0 else "")
+                     + (", the fluid's pressure in each step's force from the density of "
+                        "that step (``fix sph/fluid pressure/density full``: fix rheo's "
+                        "half-step density lets water particles at the walls rattle until "
+                        "they are shot off, ``studies/fsi_rheo/README.md`` 9.9)"
+                        if r0.get("pdensity") == "full" else "")
                      + f".  {r0['atoms']} atoms ({r0['water']} "
                      f"water, {r0['gate']} in the gate), {r0['steps']} steps of "
                      f"{r0['dt']:.3g} s to T = {r0['T']:.3g} s in {r0['wall']:.0f} s of wall "
@@ -708,8 +713,9 @@ def validate_table10b(data) -> list[str]:
                      "excursion of its observer (the gate's free downstream corner, "
                      "interpolated) over its 0.4 s, without a time; the experiment's is its "
                      "largest digitised point.  The fluid is the example's"
-                     + (f" (c_f = {r['cfac']:g} sqrt(2 g H), artificial viscosity {r['av']:g})"
-                        if "cfac" in r else "")
+                     + (f" (c_f = {r['cfac']:g} sqrt(2 g H), artificial viscosity {r['av']:g}"
+                        + (", pressure/density full" if r.get("pdensity") == "full" else "")
+                        + ")" if "cfac" in r else "")
                      + "; SPHinXsys's is a Riemann solver's with c_f = 20 sqrt(g H) = 14.1 "
                      "sqrt(2 g H): what the speed of sound, the artificial viscosity and the "
                      "spacing change is measured in ``studies/fsi_rheo/README.md`` sections "

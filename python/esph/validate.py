@@ -754,6 +754,12 @@ def _interp(times: list, values: list, t: float) -> float:
     return values[k - 1] + (values[k] - values[k - 1]) * (t - t0) / (t1 - t0)
 
 
+def pressure_density(result: dict) -> str:
+    """fix sph/fluid's pressure/density in a run of examples/fsi_gate (its
+    RESULT pdensity_full; runs before it had fix rheo's half step)"""
+    return "full" if result.get("pdensity_full", 0.0) == 1.0 else "half"
+
+
 def gate_run(nprocs: int = 1, out: Path | None = None, **run) -> dict:
     """One run of examples/fsi_gate; its RESULT lines, the wall time and the
     tip's time series (time, ux, uy rows), kept in `out`/gate_tip.dat if
@@ -811,7 +817,7 @@ def table10(full: bool, nprocs: int = 1, progress=print, out: Path | None = None
     base = {"table": "10", "problem": "fsi_gate", "dx": 0.005 / 3, "T": r["T"],
             "atoms": int(r["atoms"]), "water": int(r["water"]), "gate": int(r["gate"]),
             "steps": int(r["steps"]), "dt": r["dt"], "substeps": int(r["substeps"]),
-            "cfac": r["cfac"], "av": r["av"],
+            "cfac": r["cfac"], "av": r["av"], "pdensity": pressure_density(r),
             "wall": r["wall"], "mass_drift": r["mass1"] / r["mass0"] - 1.0,
             "dpx": (r["pwx1"] - r["pwx0"] - r["Ix"]) / r["Ig"],
             "dpy": (r["pwy1"] - r["pwy0"] - r["Iy"]) / r["Ig"],
@@ -889,7 +895,7 @@ def table10_same_inputs(nprocs: int = 1, progress=print, out: Path | None = None
     row = {"table": "10b", "problem": "fsi_gate", "dx": 0.005 / 3, "T": r["T"],
            "E": m["E"], "nu": m["nu"], "law": m["law"], "atoms": int(r["atoms"]),
            "steps": int(r["steps"]), "dt": r["dt"], "substeps": int(r["substeps"]),
-           "cfac": r["cfac"], "av": r["av"],
+           "cfac": r["cfac"], "av": r["av"], "pdensity": pressure_density(r),
            "wall": r["wall"], "uxmax": r["uxmax"], "tpeak": r["tpeak"], "uymax": r["uymax"],
            "uxmax_sphinxsys": s["peak_ux"], "uymax_sphinxsys": s["peak_uy"],
            "uxmax_experiment": ux_exp, "tpeak_experiment": t_exp,
