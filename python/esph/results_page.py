@@ -690,8 +690,9 @@ def validate_gate_section(name: str, source: dict, data: list) -> list[str]:
     out = sourced_heading("Validation: the elastic gate in full (``python -m esph validate "
                           "--full --tables g``)", name, source, "=")
     out += paragraph("Table 10 of ``scripts/validate --full``: the elastic-gate dam break "
-                     "over 0.2 s (past every reference's first peak; the example stops near "
-                     "0.25 s, ``studies/fsi_rheo/README.md`` 9.4) on one core; wall time on the "
+                     "over 0.2 s (past every reference's first peak; at its defaults the "
+                     "example also runs to 0.36 s, the experiment's record, in about 47 minutes, "
+                     "``studies/fsi_rheo/README.md`` 9.9) on one core; wall time on the "
                      "machine above, at its load.")
     return out + validate_table10(data) + validate_table10b(data)
 
